@@ -1,0 +1,85 @@
+#pragma once
+// Contact points between blocks. A contact point is a boundary gridpoint (a corner of a rigid block
+// or a boundary gridpoint of a deformable one) against a boundary edge of another block, with the
+// corners rounded by the rounding length d: the point is in contact while its distance to the other
+// block's boundary is below d (Cundall 1988, UDEC rounded corners). Edge-to-edge contact is
+// represented by the corner/gridpoint contacts of both edges.
+//
+// Contacts are keyed by decomposition-free ids (block id of the point, its local gridpoint index,
+// block id of the other block), so the same contact has the same key on any rank count and keeps
+// its joint-law state while the point slides from one edge of the other block to the next.
+#include <cstdint>
+#include <memory>
+#include <unordered_map>
+#include <vector>
+
+#include "framework/core/types.hpp"
+#include "models/joint_laws/joint_law.hpp"
+
+namespace rockdem {
+
+struct ContactKey {
+  BlockId point_block = 0;
+  LocalIndex point_local = 0;
+  BlockId other_block = 0;
+  bool operator==(const ContactKey&) const = default;
+  bool operator<(const ContactKey& o) const {
+    if (point_block != o.point_block) return point_block < o.point_block;
+    if (point_local != o.point_local) return point_local < o.point_local;
+    return other_block < o.other_block;
+  }
+};
+
+struct ContactKeyHash {
+  std::size_t operator()(const ContactKey& k) const {
+    std::uint64_t h = static_cast<std::uint64_t>(static_cast<std::uint32_t>(k.point_block));
+    h = h * 0x9E3779B97F4A7C15ull ^ static_cast<std::uint32_t>(k.point_local);
+    h = h * 0x9E3779B97F4A7C15ull ^ static_cast<std::uint32_t>(k.other_block);
+    return static_cast<std::size_t>(h ^ (h >> 29));
+  }
+};
+
+struct Contact {
+  ContactKey key;
+  int point = 0;        // gridpoint index of the contact point
+  int other = 0;        // block index of the other block
+  int edge = 0;         // position in the other block's boundary loop of the edge's first point
+  double s = 0.0;       // parameter along that edge (0..1) of the projection
+  Vec2 normal = Vec2::UnitY();  // unit normal, from the other block toward the point
+  double length = 0.0;  // contact length [m]; stresses times length give forces per metre
+  double overlap = 0.0; // geometric overlap, rounding length minus distance (>0 touching) [m]
+  int joint = 0;        // index of the joint model in ContactStore::models
+  JointStateBlock state;      // joint-law history (base law and effects)
+  JointResponse response;     // last response (stresses, offsets, slip/open)
+  bool fresh = true;          // created at the last detection, law state just initialised
+};
+
+// Which joint model acts between two block groups.
+struct JointAssignment {
+  int group_a = -1, group_b = -1;  // -1: any group
+  int model = 0;
+};
+
+class ContactStore {
+ public:
+  std::vector<Contact> items;
+  std::vector<std::unique_ptr<JointModel>> models;
+  std::vector<std::string> model_names;  // the case-file names of the joint models
+  std::vector<JointAssignment> assignments;
+  double rounding = 1e-3;         // corner rounding length d [m]
+  double tolerance = 0.0;         // extra detection distance beyond d [m]
+
+  // Joint model for a pair of groups (first matching assignment; InputError if none).
+  int model_for(int group_a, int group_b) const;
+
+  // Replace the contact list with `found`, carrying over the law state of contacts whose key
+  // persists and initialising the state of new ones. Returns the number of new contacts.
+  std::size_t merge(std::vector<Contact>&& found);
+
+  const Contact* find(const ContactKey& k) const;
+
+ private:
+  std::unordered_map<ContactKey, std::size_t, ContactKeyHash> index_;
+};
+
+}  // namespace rockdem

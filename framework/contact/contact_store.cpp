@@ -1,0 +1,46 @@
+#include <string>
+
+#include "framework/contact/contact.hpp"
+#include "framework/core/error.hpp"
+
+namespace rockdem {
+
+int ContactStore::model_for(int group_a, int group_b) const {
+  for (const auto& a : assignments) {
+    const bool direct = (a.group_a < 0 || a.group_a == group_a) && (a.group_b < 0 || a.group_b == group_b);
+    const bool swapped = (a.group_a < 0 || a.group_a == group_b) && (a.group_b < 0 || a.group_b == group_a);
+    if (direct || swapped) return a.model;
+  }
+  throw InputError("no joint model is assigned between block groups " + std::to_string(group_a) +
+                   " and " + std::to_string(group_b) + "; add a [[joints]] entry covering them");
+}
+
+std::size_t ContactStore::merge(std::vector<Contact>&& found) {
+  std::size_t created = 0;
+  for (auto& c : found) {
+    auto it = index_.find(c.key);
+    if (it != index_.end() && items[it->second].joint == c.joint) {
+      const Contact& old = items[it->second];
+      c.state = old.state;
+      c.response = old.response;
+      c.fresh = false;
+    } else {
+      models[static_cast<std::size_t>(c.joint)]->init(c.state);
+      c.response = JointResponse{};
+      c.fresh = true;
+      ++created;
+    }
+  }
+  items = std::move(found);
+  index_.clear();
+  index_.reserve(items.size());
+  for (std::size_t i = 0; i < items.size(); ++i) index_[items[i].key] = i;
+  return created;
+}
+
+const Contact* ContactStore::find(const ContactKey& k) const {
+  auto it = index_.find(k);
+  return it == index_.end() ? nullptr : &items[it->second];
+}
+
+}  // namespace rockdem

@@ -1,0 +1,111 @@
+#include "framework/core/params.hpp"
+
+#include <sstream>
+
+namespace rockdem {
+namespace {
+std::string num(double v) {
+  std::ostringstream os;
+  os.precision(6);
+  os << v;
+  return os.str();
+}
+std::string show(double si, Dimension d) {
+  if (std::isinf(si)) return si > 0 ? "inf" : "-inf";
+  return format_quantity(si, d);
+}
+}  // namespace
+
+std::string ParamInfo::range_text() const {
+  if (kind == "choice") {
+    std::string s = "one of {";
+    for (size_t i = 0; i < choices.size(); ++i) s += (i ? ", " : "") + choices[i];
+    return s + "}";
+  }
+  if (kind == "bool") return "true or false";
+  if (kind == "integer") return "an integer";
+  return std::string(min_open ? "(" : "[") + show(min, dim) + ", " + show(max, dim) +
+         (max_open ? ")" : "]");
+}
+
+std::string ParamInfo::default_display() const {
+  if (kind == "real") return default_real ? show(*default_real, dim) : "(required)";
+  return default_text.empty() ? "(required)" : default_text;
+}
+
+void check_range(const ParamInfo& info, double v, const std::string& where, const std::string& owner) {
+  const bool below = info.min_open ? v <= info.min : v < info.min;
+  const bool above = info.max_open ? v >= info.max : v > info.max;
+  if (below || above || std::isnan(v)) {
+    throw InputError(where + ": parameter '" + info.name + "' of " + owner + " = " +
+                     show(v, info.dim) + " is out of range; valid range is " + info.range_text() +
+                     " (" + info.doc + ")");
+  }
+}
+
+double parse_real(const ParamInfo& info, const RawValue& raw, const std::string& owner) {
+  double v = 0.0;
+  if (const auto* s = std::get_if<std::string>(&raw.value)) {
+    try {
+      v = parse_quantity(*s, info.dim);
+    } catch (const InputError& e) {
+      throw InputError(raw.where + ": parameter '" + info.name + "' of " + owner + ": " + e.what());
+    }
+  } else if (const auto* d = std::get_if<double>(&raw.value)) {
+    v = *d;
+  } else if (const auto* i = std::get_if<std::int64_t>(&raw.value)) {
+    v = static_cast<double>(*i);
+  } else {
+    throw InputError(raw.where + ": parameter '" + info.name + "' of " + owner +
+                     " must be a number" +
+                     (info.dim == Dimension::dimensionless ? std::string() :
+                      " with a unit, as a string like \"1.5 " + std::string(si_unit(info.dim)) + "\""));
+  }
+  if (!std::holds_alternative<std::string>(raw.value) && info.dim != Dimension::dimensionless) {
+    throw InputError(raw.where + ": parameter '" + info.name + "' of " + owner + " = " + num(v) +
+                     " has no unit; a " + std::string(dimension_name(info.dim)) +
+                     " is written as a string with one of: " + std::string(units_for(info.dim)) +
+                     " (e.g. \"" + num(v) + " " + std::string(si_unit(info.dim)) + "\")");
+  }
+  check_range(info, v, raw.where, owner);
+  return v;
+}
+
+int parse_choice(const ParamInfo& info, const RawValue& raw, const std::string& owner) {
+  const auto* s = std::get_if<std::string>(&raw.value);
+  if (s) {
+    for (size_t i = 0; i < info.choices.size(); ++i)
+      if (info.choices[i] == *s) return static_cast<int>(i);
+  }
+  throw InputError(raw.where + ": parameter '" + info.name + "' of " + owner + " must be " +
+                   info.range_text() + (s ? ", not '" + *s + "'" : std::string()));
+}
+
+bool parse_flag(const ParamInfo& info, const RawValue& raw, const std::string& owner) {
+  if (const auto* b = std::get_if<bool>(&raw.value)) return *b;
+  throw InputError(raw.where + ": parameter '" + info.name + "' of " + owner + " must be true or false");
+}
+
+int parse_integer(const ParamInfo& info, const RawValue& raw, const std::string& owner) {
+  if (const auto* i = std::get_if<std::int64_t>(&raw.value)) {
+    check_range(info, static_cast<double>(*i), raw.where, owner);
+    return static_cast<int>(*i);
+  }
+  throw InputError(raw.where + ": parameter '" + info.name + "' of " + owner + " must be an integer");
+}
+
+void check_known_keys(const RawValues& values, const std::vector<ParamInfo>& infos,
+                      const std::string& owner) {
+  for (const auto& [key, raw] : values) {
+    bool known = false;
+    for (const auto& i : infos) known = known || i.name == key;
+    if (!known) {
+      std::string valid;
+      for (const auto& i : infos) valid += (valid.empty() ? "" : ", ") + i.name;
+      throw InputError(raw.where + ": unknown parameter '" + key + "' for " + owner +
+                       "; valid parameters: " + valid);
+    }
+  }
+}
+
+}  // namespace rockdem

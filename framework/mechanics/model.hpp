@@ -1,0 +1,81 @@
+#pragma once
+// The state of a 2D block model: blocks (rigid or deformable), their gridpoints and zones, and the
+// contacts between them. Physics routines take a Model& and never see MPI.
+//
+// Rigid blocks keep their polygon vertices as gridpoints too, slaved to the rigid-body motion, so
+// that contact detection and contact forces treat every block alike: contacts act on gridpoints and
+// on boundary edges (pairs of consecutive boundary gridpoints); a rigid block then sums the forces
+// on its gridpoints into a force and a moment at its centroid.
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "framework/contact/contact.hpp"
+#include "framework/core/types.hpp"
+
+namespace rockdem {
+
+class RockMaterialBase;  // models/rock/rock_material.hpp
+
+struct GridPoint {
+  Vec2 x0 = Vec2::Zero();  // initial position [m]
+  Vec2 x = Vec2::Zero();   // current position [m]
+  Vec2 v = Vec2::Zero();   // velocity [m/s]
+  Vec2 f = Vec2::Zero();   // unbalanced force of this step [N per m of out-of-plane thickness]
+  double mass = 0.0;       // lumped mass (after mass scaling) [kg/m]
+  double stiffness = 0.0;  // sum of the stiffnesses acting on it, for the stable time step [N/m/m]
+  BlockId block = 0;
+  LocalIndex local = 0;    // index within its block (decomposition-free id with `block`)
+  bool fixed_x = false, fixed_y = false;
+  bool prescribed = false;  // velocity set by a boundary condition, not by the equation of motion
+};
+
+// Constant-strain triangle (zone) of a deformable block.
+struct Zone {
+  std::array<int, 3> n{};  // gridpoint indices (counter-clockwise)
+  double area = 0.0;       // initial area [m^2]
+  Voigt3 stress = Voigt3::Zero();  // sxx, syy, sxy [Pa], tension positive (continuum convention)
+  double szz = 0.0;                // out-of-plane stress (plane strain) [Pa]
+  Voigt3 strain = Voigt3::Zero();  // accumulated small strain
+  int material = 0;                // index into Model::materials
+  alignas(8) std::array<std::byte, 64> material_state{};  // rock-material history (plasticity)
+};
+
+struct Block {
+  BlockId id = 0;
+  std::string name;
+  bool rigid = true;
+  int group = 0;                // joint/material group index (case-file `group`)
+  std::vector<int> boundary;    // gridpoint indices of the boundary loop, counter-clockwise
+  int first_gp = 0, n_gp = 0;   // gridpoints [first_gp, first_gp + n_gp)
+  int first_zone = 0, n_zone = 0;
+  double density = 0.0;         // [kg/m^3]
+  // Rigid-body state (also filled for deformable blocks as diagnostics).
+  double mass = 0.0, inertia = 0.0;  // [kg/m], [kg m^2 / m]
+  Vec2 xc0 = Vec2::Zero(), xc = Vec2::Zero(), vc = Vec2::Zero(), fc = Vec2::Zero();
+  double theta = 0.0, omega = 0.0, moment = 0.0;
+  double mass_scale = 1.0;
+  bool fixed = false;           // rigid block held in place
+  bool prescribed = false;      // rigid block driven by a velocity history
+  std::vector<Vec2> rest_offsets;  // rigid: vertex offsets from the centroid at theta = 0
+};
+
+struct Model {
+  std::vector<Block> blocks;
+  std::vector<GridPoint> gp;
+  std::vector<Zone> zones;
+  std::vector<std::unique_ptr<RockMaterialBase>> materials;
+  ContactStore contacts;
+  Vec2 gravity = Vec2::Zero();
+  double time = 0.0;
+  long step = 0;
+  double thickness = 1.0;  // out-of-plane thickness [m] (2D: forces are per metre)
+
+  Model();
+  ~Model();
+  Model(Model&&) noexcept;
+  Model& operator=(Model&&) noexcept;
+};
+
+}  // namespace rockdem

@@ -1,0 +1,25 @@
+#pragma once
+// MPI lives here (framework/parallel/) and nowhere else. The rest of rockdem asks this object for
+// its rank and size. Until domain decomposition lands, rank 0 runs the model and other ranks wait.
+namespace rockdem {
+
+class MpiEnvironment {
+ public:
+  MpiEnvironment(int& argc, char**& argv);
+  ~MpiEnvironment();
+  MpiEnvironment(const MpiEnvironment&) = delete;
+  MpiEnvironment& operator=(const MpiEnvironment&) = delete;
+  int rank() const { return rank_; }
+  int size() const { return size_; }
+  // Agree on an exit code across ranks (the largest), finalise, and return it.
+  int finish(int code);
+  // Block until rank 0 reaches its matching barrier (serial runs on several ranks).
+  void barrier() const;
+
+ private:
+  int rank_ = 0;
+  int size_ = 1;
+  bool finalized_ = false;
+};
+
+}  // namespace rockdem

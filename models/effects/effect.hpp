@@ -1,0 +1,77 @@
+#pragma once
+// Typed effects. An effect is a small struct of the same shape as a joint law:
+//   struct MyEffect {
+//     static constexpr const char* name = "my_effect";
+//     struct Params { bool enabled; ...; static std::vector<Param<Params>> spec(); };
+//     struct State { ... };                                   // trivially copyable
+//     static void init(const Params&, State&);
+//     static void modify(const Params&, State&, ShearContext&); // before the base law's yield check
+//     static void after(const Params&, State&, const ShearContext&, const JointResponse&);
+//   };
+//   ROCKDEM_REGISTER_EFFECT(MyEffect, "summary", "reference");
+// An effect with enabled = false must leave the base law's results identical, bit for bit.
+#include <cstring>
+
+#include "models/joint_laws/joint_law.hpp"
+
+namespace rockdem {
+
+template <class Effect>
+class EffectAdapter final : public EffectBase {
+ public:
+  using Params = typename Effect::Params;
+  using State = typename Effect::State;
+  static_assert(std::is_trivially_copyable_v<State>, "effect State must be trivially copyable");
+  explicit EffectAdapter(Params p) : p_(p) {}
+  const char* name() const override { return Effect::name; }
+  std::size_t state_size() const override { return sizeof(State); }
+  std::size_t state_align() const override { return alignof(State); }
+  void init(std::byte* s) const override {
+    State st{};
+    Effect::init(p_, st);
+    std::memcpy(s, &st, sizeof(State));
+  }
+  void modify(std::byte* s, ShearContext& ctx) const override {
+    if (!p_.enabled) return;
+    State st;
+    std::memcpy(&st, s, sizeof(State));
+    Effect::modify(p_, st, ctx);
+    std::memcpy(s, &st, sizeof(State));
+  }
+  void after(std::byte* s, const ShearContext& ctx, const JointResponse& r) const override {
+    if (!p_.enabled) return;
+    State st;
+    std::memcpy(&st, s, sizeof(State));
+    Effect::after(p_, st, ctx, r);
+    std::memcpy(s, &st, sizeof(State));
+  }
+
+ private:
+  Params p_;
+};
+
+namespace detail {
+template <class Effect>
+struct EffectRegistrar {
+  EffectRegistrar(const char* summary, const char* reference) {
+    EffectRegistry::Entry e;
+    e.name = Effect::name;
+    e.summary = summary;
+    e.reference = reference;
+    e.params = param_infos<typename Effect::Params>();
+    e.make = [](const RawValues& v, const std::string& where) -> std::unique_ptr<EffectBase> {
+      return std::make_unique<EffectAdapter<Effect>>(
+          bind_params<typename Effect::Params>(v, std::string("effect '") + Effect::name + "'", where));
+    };
+    EffectRegistry::instance().add(std::move(e));
+  }
+};
+}  // namespace detail
+
+#define ROCKDEM_REGISTER_EFFECT(Effect, summary, reference)                                   \
+  namespace {                                                                                 \
+  const ::rockdem::detail::EffectRegistrar<Effect> ROCKDEM_CONCAT(rockdem_effect_registrar_, \
+                                                                  __LINE__){summary, reference}; \
+  }
+
+}  // namespace rockdem

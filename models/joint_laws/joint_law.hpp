@@ -1,0 +1,216 @@
+#pragma once
+// The joint-law interface: one call per contact point per step, the same for the DEM engine and
+// the element driver. A law sees only the contact's kinematic increment and its own state; it
+// returns stresses (compression positive) and what it dissipated. Effects (models/effects/)
+// adjust the strength and dilation a base law uses, through the ShearContext hook, and keep
+// their own state beside the base state in one fixed-size block per contact.
+//
+// A law is a small struct:
+//   struct MyLaw {
+//     static constexpr const char* name = "my_law";
+//     struct Params { double kn; ...; static std::vector<Param<Params>> spec(); };
+//     struct State  { ... };                                // trivially copyable, fixed size
+//     static void init(const Params&, State&);
+//     static void update(const Params&, State&, const JointKinematics&, JointResponse&,
+//                        EffectChain&);                     // call chain.modify(ctx) once
+//   };
+//   ROCKDEM_REGISTER_JOINT_LAW(MyLaw, "summary", "reference");
+#include <array>
+#include <cstddef>
+#include <cstring>
+#include <memory>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "models/registry.hpp"
+
+namespace rockdem {
+
+// Kinematic input to one joint-point update.
+struct JointKinematics {
+  double du_n = 0.0;    // normal displacement increment, opening positive [m]
+  double du_s = 0.0;    // shear displacement increment, relative (top minus bottom) [m]
+  double dt = 0.0;      // time increment [s] (0 in pseudo-static element paths)
+  double length = 1.0;  // contact length [m] (for laws that need it; stresses are per area)
+};
+
+// Output of one update (stresses are the state after the increment).
+struct JointResponse {
+  double sigma_n = 0.0;     // normal stress, compression positive [Pa]
+  double tau = 0.0;         // shear stress, sign of the shear direction [Pa]
+  double kn = 0.0;          // current normal stiffness, for the stable time step [Pa/m]
+  double ks = 0.0;          // current shear stiffness [Pa/m]
+  double u_s = 0.0;         // shear offset from the mated position [m]
+  double u_n = 0.0;         // normal displacement from the initial contact, opening positive [m]
+  double dilation = 0.0;    // accumulated shear dilation [m]
+  double dissipated = 0.0;  // energy dissipated in this increment, per unit area [J/m^2]
+  bool slipping = false;
+  bool open = false;
+};
+
+// What a base law exposes to effects at the point where it evaluates its shear strength and
+// dilation. Effects read the kinematics and may change `strength` and `dilation_rate`.
+struct ShearContext {
+  double sigma_n = 0.0;          // normal stress used for the strength [Pa]
+  double u_s = 0.0;              // shear offset from the mated position before the increment [m]
+  double du_s = 0.0;             // shear increment [m]
+  double plastic_slip = 0.0;     // accumulated plastic shear displacement [m]
+  double basic_friction = 0.0;   // basic/residual friction angle [rad]
+  double roughness_angle = 0.0;  // current roughness (dilation) angle the base law uses [rad]
+  double strength = 0.0;         // bounding shear strength, magnitude [Pa]; effects may change it
+  double dilation_rate = 0.0;    // d(dilation)/d|du_s^p| with its sign; effects may change it
+  bool toward_origin = false;    // the increment moves back toward the mated position
+};
+
+// Type-erased effect (see models/effects/effect.hpp for the typed form).
+class EffectBase {
+ public:
+  virtual ~EffectBase() = default;
+  virtual const char* name() const = 0;
+  virtual std::size_t state_size() const = 0;
+  virtual std::size_t state_align() const = 0;
+  virtual void init(std::byte* state) const = 0;
+  virtual void modify(std::byte* state, ShearContext& ctx) const = 0;
+  virtual void after(std::byte* state, const ShearContext& ctx, const JointResponse& r) const = 0;
+};
+
+// Ordered list of effects with the offsets of their state in the contact's state block. A base
+// law calls modify() once per update, where it has computed its own strength and dilation rate,
+// and after() is called by the composed law once the response is known.
+class EffectChain {
+ public:
+  EffectChain() = default;
+  EffectChain(const std::vector<const EffectBase*>* effects, const std::vector<std::size_t>* offsets,
+              std::byte* block)
+      : effects_(effects), offsets_(offsets), block_(block) {}
+  void modify(ShearContext& ctx) {
+    last_ = ctx;
+    if (!effects_) return;
+    for (std::size_t i = 0; i < effects_->size(); ++i) (*effects_)[i]->modify(block_ + (*offsets_)[i], ctx);
+    last_ = ctx;
+  }
+  void after(const JointResponse& r) const {
+    if (!effects_) return;
+    for (std::size_t i = 0; i < effects_->size(); ++i) (*effects_)[i]->after(block_ + (*offsets_)[i], last_, r);
+  }
+
+ private:
+  const std::vector<const EffectBase*>* effects_ = nullptr;
+  const std::vector<std::size_t>* offsets_ = nullptr;
+  std::byte* block_ = nullptr;
+  ShearContext last_{};
+};
+
+// Largest per-contact state block (base law + effects), bytes. Fixed so that contact records are
+// trivially copyable and can be migrated or checkpointed as raw bytes.
+inline constexpr std::size_t kJointStateBytes = 256;
+struct alignas(16) JointStateBlock {
+  std::array<std::byte, kJointStateBytes> bytes{};
+};
+
+// Type-erased base law.
+class JointLawBase {
+ public:
+  virtual ~JointLawBase() = default;
+  virtual const char* name() const = 0;
+  virtual std::size_t state_size() const = 0;
+  virtual std::size_t state_align() const = 0;
+  virtual void init(std::byte* state) const = 0;
+  virtual void update(std::byte* state, const JointKinematics& k, JointResponse& r,
+                      EffectChain& chain) const = 0;
+  // Stiffnesses used for the stable time step before the first update [Pa/m].
+  virtual double initial_kn() const = 0;
+  virtual double initial_ks() const = 0;
+};
+
+template <class Law>
+class JointLawAdapter final : public JointLawBase {
+ public:
+  using Params = typename Law::Params;
+  using State = typename Law::State;
+  static_assert(std::is_trivially_copyable_v<State>, "joint-law State must be trivially copyable");
+  explicit JointLawAdapter(Params p) : p_(p) {}
+  const char* name() const override { return Law::name; }
+  std::size_t state_size() const override { return sizeof(State); }
+  std::size_t state_align() const override { return alignof(State); }
+  void init(std::byte* s) const override {
+    State st{};
+    Law::init(p_, st);
+    std::memcpy(s, &st, sizeof(State));
+  }
+  void update(std::byte* s, const JointKinematics& k, JointResponse& r, EffectChain& chain) const override {
+    State st;
+    std::memcpy(&st, s, sizeof(State));
+    Law::update(p_, st, k, r, chain);
+    std::memcpy(s, &st, sizeof(State));
+  }
+  double initial_kn() const override { return Law::initial_kn(p_); }
+  double initial_ks() const override { return Law::initial_ks(p_); }
+  const Params& params() const { return p_; }
+
+ private:
+  Params p_;
+};
+
+using JointLawRegistry = Registry<JointLawBase>;
+using EffectRegistry = Registry<EffectBase>;
+
+// A base law with its ordered effects: what a contact (or the element driver) actually calls.
+class JointModel {
+ public:
+  JointModel(std::unique_ptr<JointLawBase> law, std::vector<std::unique_ptr<EffectBase>> effects);
+  JointModel(const JointModel&) = delete;
+  JointModel& operator=(const JointModel&) = delete;
+
+  void init(JointStateBlock& s) const;
+  void update(JointStateBlock& s, const JointKinematics& k, JointResponse& r) const;
+  const JointLawBase& law() const { return *law_; }
+  std::size_t effect_count() const { return effects_.size(); }
+  std::string description() const;  // "continuously_yielding + a + b"
+  double initial_kn() const { return law_->initial_kn(); }
+  double initial_ks() const { return law_->initial_ks(); }
+
+ private:
+  std::unique_ptr<JointLawBase> law_;
+  std::vector<std::unique_ptr<EffectBase>> owned_;
+  std::vector<const EffectBase*> effects_;
+  std::vector<std::size_t> offsets_;
+};
+
+// Build a joint model from a law name, its parameter values, and effects (name + values), each in
+// the order given. Unknown names and parameters are InputErrors that list the valid ones.
+struct EffectSpec {
+  std::string name;
+  RawValues params;
+  std::string where;
+};
+std::unique_ptr<JointModel> make_joint_model(const std::string& law, const RawValues& law_params,
+                                             const std::vector<EffectSpec>& effects,
+                                             const std::string& where);
+
+namespace detail {
+template <class Law>
+struct JointLawRegistrar {
+  JointLawRegistrar(const char* summary, const char* reference) {
+    JointLawRegistry::Entry e;
+    e.name = Law::name;
+    e.summary = summary;
+    e.reference = reference;
+    e.params = param_infos<typename Law::Params>();
+    e.make = [](const RawValues& v, const std::string& where) -> std::unique_ptr<JointLawBase> {
+      return std::make_unique<JointLawAdapter<Law>>(
+          bind_params<typename Law::Params>(v, std::string("joint law '") + Law::name + "'", where));
+    };
+    JointLawRegistry::instance().add(std::move(e));
+  }
+};
+}  // namespace detail
+
+#define ROCKDEM_REGISTER_JOINT_LAW(Law, summary, reference)                                  \
+  namespace {                                                                                \
+  const ::rockdem::detail::JointLawRegistrar<Law> ROCKDEM_CONCAT(rockdem_law_registrar_, \
+                                                                 __LINE__){summary, reference}; \
+  }
+
+}  // namespace rockdem
