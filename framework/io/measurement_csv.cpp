@@ -1,0 +1,219 @@
+// Reader and writer of the single-joint measurement CSV (shared/docs/measurement-format.md).
+// The reader is strict on purpose: a laboratory record with a silently skipped row would bias a
+// calibration without anybody noticing, so every rule violation stops with file, line and rule.
+#include "framework/io/measurement_csv.hpp"
+
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+#include <string_view>
+
+#include "framework/core/error.hpp"
+
+namespace rockdem {
+namespace {
+
+constexpr std::array<std::string_view, 6> kColumns{"time_s",          "stage",
+                                                   "normal_stress_MPa", "shear_disp_mm",
+                                                   "shear_stress_MPa",  "normal_disp_mm"};
+
+std::string_view trim(std::string_view s) {
+  while (!s.empty() && (s.front() == ' ' || s.front() == '\t' || s.front() == '\r')) s.remove_prefix(1);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
+  return s;
+}
+
+void split(std::string_view line, std::vector<std::string_view>& out) {
+  out.clear();
+  std::size_t start = 0;
+  for (;;) {
+    const std::size_t comma = line.find(',', start);
+    out.push_back(trim(line.substr(start, comma == std::string_view::npos ? std::string_view::npos
+                                                                          : comma - start)));
+    if (comma == std::string_view::npos) break;
+    start = comma + 1;
+  }
+}
+
+void append_number(std::string& out, double v) {
+  std::array<char, 64> buf{};
+  auto [end, ec] = std::to_chars(buf.data(), buf.data() + buf.size(), v);  // shortest round-trip
+  (void)ec;
+  out.append(buf.data(), end);
+}
+
+}  // namespace
+
+void write_measurement_csv(const std::string& path, const MeasurementFile& f) {
+  std::string out;
+  out.reserve(64 + f.rows.size() * (64 + 16 * f.extra_columns.size()));
+  for (const auto& [k, v] : f.metadata) {
+    out += "# ";
+    out += k;
+    out += ": ";
+    out += v;
+    out += '\n';
+  }
+  for (std::size_t i = 0; i < kColumns.size(); ++i) {
+    if (i) out += ',';
+    out += kColumns[i];
+  }
+  for (const auto& c : f.extra_columns) {
+    out += ',';
+    out += c;
+  }
+  out += '\n';
+  for (std::size_t i = 0; i < f.rows.size(); ++i) {
+    const auto& r = f.rows[i];
+    append_number(out, r.time_s);
+    out += ',';
+    out += std::to_string(r.stage);
+    out += ',';
+    append_number(out, r.normal_stress_MPa);
+    out += ',';
+    append_number(out, r.shear_disp_mm);
+    out += ',';
+    append_number(out, r.shear_stress_MPa);
+    out += ',';
+    append_number(out, r.normal_disp_mm);
+    if (i < f.extra.size()) {
+      for (double v : f.extra[i]) {
+        out += ',';
+        append_number(out, v);
+      }
+    }
+    out += '\n';
+  }
+  std::FILE* fp = std::fopen(path.c_str(), "wb");
+  if (!fp) throw InputError(path + ": cannot open for writing");
+  const std::size_t n = std::fwrite(out.data(), 1, out.size(), fp);
+  const bool ok = n == out.size() && std::fclose(fp) == 0;
+  if (!ok) throw InputError(path + ": write failed (disk full or no permission?)");
+}
+
+MeasurementFile read_measurement_csv(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path + ": cannot open measurement file (missing or unreadable)");
+  MeasurementFile f;
+  std::string line;
+  int lineno = 0;
+  bool have_header = false;
+  std::array<int, 6> col{};  // position of each standard column in the header
+  std::vector<int> extra_pos;
+  std::size_t ncols = 0;
+  std::vector<std::string_view> fields;
+  std::vector<double> values;
+  double last_time = -std::numeric_limits<double>::infinity();
+  int last_stage = 0;
+  auto fail = [&](const std::string& rule) -> InputError {
+    return InputError(path + ":" + std::to_string(lineno) + ": " + rule);
+  };
+  while (std::getline(in, line)) {
+    ++lineno;
+    const std::string_view s = trim(line);
+    if (s.empty()) continue;  // blank lines carry no data
+    if (s.front() == '#') {
+      if (have_header) throw fail("comment/metadata line after the header; '# key: value' lines must precede it");
+      const std::string_view body = trim(s.substr(1));
+      const std::size_t colon = body.find(':');
+      if (colon == std::string_view::npos) {
+        f.metadata.emplace_back(std::string(body), std::string());
+      } else {
+        f.metadata.emplace_back(std::string(trim(body.substr(0, colon))),
+                                std::string(trim(body.substr(colon + 1))));
+      }
+      continue;
+    }
+    split(s, fields);
+    if (!have_header) {
+      col.fill(-1);
+      for (std::size_t i = 0; i < fields.size(); ++i) {
+        bool standard = false;
+        for (std::size_t c = 0; c < kColumns.size(); ++c) {
+          if (fields[i] == kColumns[c]) {
+            if (col[c] >= 0) throw fail("column '" + std::string(kColumns[c]) + "' appears twice in the header");
+            col[c] = static_cast<int>(i);
+            standard = true;
+          }
+        }
+        if (!standard) {
+          if (fields[i].empty()) throw fail("empty column name in the header");
+          extra_pos.push_back(static_cast<int>(i));
+          f.extra_columns.emplace_back(fields[i]);
+        }
+      }
+      for (std::size_t c = 0; c < kColumns.size(); ++c) {
+        if (col[c] < 0) {
+          std::string all;
+          for (auto k : kColumns) {
+            if (!all.empty()) all += ',';
+            all += k;
+          }
+          throw fail("missing column '" + std::string(kColumns[c]) + "' in the header; required columns: " + all);
+        }
+      }
+      ncols = fields.size();
+      have_header = true;
+      continue;
+    }
+    if (fields.size() != ncols) {
+      throw fail("row has " + std::to_string(fields.size()) + " fields, the header has " +
+                 std::to_string(ncols));
+    }
+    values.assign(ncols, 0.0);
+    for (std::size_t i = 0; i < ncols; ++i) {
+      const std::string_view v = fields[i];
+      double x = 0.0;
+      const char* b = v.data();
+      const char* e = v.data() + v.size();
+      if (!v.empty() && *b == '+') ++b;  // from_chars rejects a leading '+'
+      auto [ptr, ec] = std::from_chars(b, e, x);
+      std::string colname = "?";
+      for (std::size_t c = 0; c < kColumns.size(); ++c)
+        if (col[c] == static_cast<int>(i)) colname = std::string(kColumns[c]);
+      for (std::size_t j = 0; j < extra_pos.size(); ++j)
+        if (extra_pos[j] == static_cast<int>(i)) colname = f.extra_columns[j];
+      if (v.empty() || ec != std::errc() || ptr != e) {
+        throw fail("non-numeric value '" + std::string(v) + "' in column '" + colname + "'");
+      }
+      if (std::isnan(x)) throw fail("NaN in column '" + colname + "'; every value must be a number");
+      if (!std::isfinite(x)) throw fail("infinite value in column '" + colname + "'");
+      values[i] = x;
+    }
+    MeasurementRow r{};
+    r.time_s = values[static_cast<std::size_t>(col[0])];
+    const double stage = values[static_cast<std::size_t>(col[1])];
+    r.normal_stress_MPa = values[static_cast<std::size_t>(col[2])];
+    r.shear_disp_mm = values[static_cast<std::size_t>(col[3])];
+    r.shear_stress_MPa = values[static_cast<std::size_t>(col[4])];
+    r.normal_disp_mm = values[static_cast<std::size_t>(col[5])];
+    if (stage != std::floor(stage) || stage < 1.0 || stage > 1e6) {
+      throw fail("stage must be a positive integer (1, 2, ...), found " + std::string(fields[static_cast<std::size_t>(col[1])]));
+    }
+    r.stage = static_cast<int>(stage);
+    if (r.time_s < last_time) {
+      throw fail("time going backwards: time_s = " + std::string(fields[static_cast<std::size_t>(col[0])]) +
+                 " after " + std::to_string(last_time) + "; time_s must be non-decreasing over the whole file");
+    }
+    if (r.stage < last_stage) {
+      throw fail("stage " + std::to_string(r.stage) + " after stage " + std::to_string(last_stage) +
+                 "; stages are numbered in test order and must not decrease");
+    }
+    last_time = r.time_s;
+    last_stage = r.stage;
+    f.rows.push_back(r);
+    std::vector<double> ex(extra_pos.size());
+    for (std::size_t j = 0; j < extra_pos.size(); ++j) ex[j] = values[static_cast<std::size_t>(extra_pos[j])];
+    f.extra.push_back(std::move(ex));
+  }
+  if (!have_header) {
+    throw InputError(path + ":" + std::to_string(lineno) + ": no header line found; the header names the columns " +
+                     "time_s,stage,normal_stress_MPa,shear_disp_mm,shear_stress_MPa,normal_disp_mm");
+  }
+  return f;
+}
+
+}  // namespace rockdem
