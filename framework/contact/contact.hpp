@@ -78,6 +78,10 @@ class ContactStore {
 
   const Contact* find(const ContactKey& k) const;
 
+  // Replace the contact list as it is, law state included (checkpoint restore), and rebuild the
+  // index; unlike merge() nothing is re-initialised.
+  void restore(std::vector<Contact>&& all);
+
  private:
   std::unordered_map<ContactKey, std::size_t, ContactKeyHash> index_;
 };

@@ -38,6 +38,13 @@ std::size_t ContactStore::merge(std::vector<Contact>&& found) {
   return created;
 }
 
+void ContactStore::restore(std::vector<Contact>&& all) {
+  items = std::move(all);
+  index_.clear();
+  index_.reserve(items.size());
+  for (std::size_t i = 0; i < items.size(); ++i) index_[items[i].key] = i;
+}
+
 const Contact* ContactStore::find(const ContactKey& k) const {
   auto it = index_.find(k);
   return it == index_.end() ? nullptr : &items[it->second];

@@ -1,0 +1,269 @@
+#include "framework/io/vtk_output.hpp"
+
+#include <vtkCellArray.h>
+#include <vtkCellData.h>
+#include <vtkCellType.h>
+#include <vtkDoubleArray.h>
+#include <vtkIdTypeArray.h>
+#include <vtkIntArray.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkUnsignedCharArray.h>
+#include <vtkUnstructuredGrid.h>
+#include <vtkXMLDataElement.h>
+#include <vtkXMLDataParser.h>
+#include <vtkXMLUnstructuredGridWriter.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+#include <stdexcept>
+
+#include "framework/core/error.hpp"
+#include "framework/mechanics/model.hpp"
+
+namespace rockdem {
+
+namespace {
+
+vtkNew<vtkDoubleArray> make_array(const char* name, int components, vtkIdType tuples) {
+  vtkNew<vtkDoubleArray> a;
+  a->SetName(name);
+  a->SetNumberOfComponents(components);
+  a->SetNumberOfTuples(tuples);
+  return a;
+}
+
+vtkNew<vtkIntArray> make_int_array(const char* name, vtkIdType tuples) {
+  vtkNew<vtkIntArray> a;
+  a->SetName(name);
+  a->SetNumberOfComponents(1);
+  a->SetNumberOfTuples(tuples);
+  return a;
+}
+
+void write_grid(vtkUnstructuredGrid* grid, const std::string& path) {
+  vtkNew<vtkXMLUnstructuredGridWriter> w;
+  w->SetFileName(path.c_str());
+  w->SetInputData(grid);
+  w->SetDataModeToAppended();
+  w->EncodeAppendedDataOff();  // raw binary: smaller and faster than base64
+  w->SetCompressorTypeToZLib();
+  w->SetHeaderTypeToUInt64();  // no 4 GiB limit on a block of appended data
+  if (w->Write() != 1) throw std::runtime_error("cannot write VTK file '" + path + "'");
+}
+
+vtkNew<vtkPoints> make_points(vtkIdType n) {
+  vtkNew<vtkPoints> p;
+  p->SetDataTypeToDouble();
+  p->SetNumberOfPoints(n);
+  return p;
+}
+
+std::string step_file(const char* prefix, long step) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%s_%06ld.vtu", prefix, step);
+  return buf;
+}
+
+// The .pvd is tiny; written to a temporary name and renamed so that a reader (or a crash) never
+// sees half a file.
+void write_pvd(const std::filesystem::path& path, const std::vector<VtkSeries::Entry>& entries) {
+  const std::filesystem::path tmp = path.string() + ".tmp";
+  {
+    std::ofstream out(tmp);
+    if (!out) throw std::runtime_error("cannot write '" + tmp.string() + "'");
+    out << "<?xml version=\"1.0\"?>\n"
+           "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+           "  <Collection>\n";
+    char t[64];
+    for (const auto& e : entries) {
+      std::snprintf(t, sizeof t, "%.17g", e.time);
+      out << "    <DataSet timestep=\"" << t << "\" group=\"\" part=\"0\" file=\"" << e.file << "\"/>\n";
+    }
+    out << "  </Collection>\n</VTKFile>\n";
+    if (!out.flush()) throw std::runtime_error("cannot write '" + tmp.string() + "'");
+  }
+  std::filesystem::rename(tmp, path);
+}
+
+// Entries of an existing .pvd written by write_pvd (the step is taken from the file name).
+std::vector<VtkSeries::Entry> read_pvd(const std::filesystem::path& path, const char* prefix) {
+  std::vector<VtkSeries::Entry> out;
+  if (!std::filesystem::exists(path)) return out;
+  vtkNew<vtkXMLDataParser> parser;
+  parser->SetFileName(path.string().c_str());
+  if (parser->Parse() != 1 || !parser->GetRootElement())
+    throw InputError("cannot parse the ParaView collection '" + path.string() + "'");
+  vtkXMLDataElement* coll = parser->GetRootElement()->FindNestedElementWithName("Collection");
+  if (!coll) throw InputError("'" + path.string() + "' has no <Collection>");
+  const std::string pre = std::string(prefix) + "_";
+  for (int i = 0; i < coll->GetNumberOfNestedElements(); ++i) {
+    vtkXMLDataElement* ds = coll->GetNestedElement(i);
+    const char* t = ds->GetAttribute("timestep");
+    const char* f = ds->GetAttribute("file");
+    if (!t || !f) continue;
+    std::string file = f;
+    long step = -1;
+    if (file.rfind(pre, 0) == 0) step = std::strtol(file.c_str() + pre.size(), nullptr, 10);
+    out.push_back({std::strtod(t, nullptr), step, file});
+  }
+  return out;
+}
+
+void upsert(std::vector<VtkSeries::Entry>& entries, VtkSeries::Entry e) {
+  auto it = std::find_if(entries.begin(), entries.end(), [&](const auto& x) { return x.file == e.file; });
+  if (it != entries.end())
+    *it = std::move(e);
+  else
+    entries.push_back(std::move(e));
+}
+
+}  // namespace
+
+void write_blocks_vtu(const Model& m, const std::string& path) {
+  const auto np = static_cast<vtkIdType>(m.gp.size());
+  vtkNew<vtkUnstructuredGrid> grid;
+  auto pts = make_points(np);
+  auto disp = make_array("displacement", 3, np);
+  auto vel = make_array("velocity", 3, np);
+  for (vtkIdType i = 0; i < np; ++i) {
+    const GridPoint& g = m.gp[static_cast<std::size_t>(i)];
+    pts->SetPoint(i, g.x.x(), g.x.y(), 0.0);
+    disp->SetTuple3(i, g.x.x() - g.x0.x(), g.x.y() - g.x0.y(), 0.0);
+    vel->SetTuple3(i, g.v.x(), g.v.y(), 0.0);
+  }
+  grid->SetPoints(pts);
+  grid->GetPointData()->AddArray(disp);
+  grid->GetPointData()->AddArray(vel);
+  grid->GetPointData()->SetActiveVectors("displacement");  // the default for Warp By Vector
+
+  vtkIdType ncell = 0;
+  for (const Block& b : m.blocks) ncell += b.rigid ? 1 : b.n_zone;
+  grid->Allocate(ncell);
+  auto stress = make_array("stress", 6, ncell);
+  const char* comp[6] = {"XX", "YY", "ZZ", "XY", "YZ", "XZ"};
+  for (int c = 0; c < 6; ++c) stress->SetComponentName(c, comp[c]);
+  auto block_id = make_int_array("block_id", ncell);
+  auto rigid = make_int_array("rigid", ncell);
+  auto group = make_int_array("group", ncell);
+
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  std::vector<vtkIdType> ids;
+  vtkIdType cell = 0;
+  for (const Block& b : m.blocks) {
+    auto tag = [&](vtkIdType c) {
+      block_id->SetValue(c, b.id);
+      rigid->SetValue(c, b.rigid ? 1 : 0);
+      group->SetValue(c, b.group);
+    };
+    if (b.rigid) {
+      ids.assign(b.boundary.begin(), b.boundary.end());
+      grid->InsertNextCell(VTK_POLYGON, static_cast<vtkIdType>(ids.size()), ids.data());
+      // A rigid block has no strain, hence no constitutive stress: NaN shows as "no value" in
+      // ParaView instead of a misleading zero.
+      const double s[6] = {nan, nan, nan, nan, nan, nan};
+      stress->SetTuple(cell, s);
+      tag(cell++);
+      continue;
+    }
+    for (int z = b.first_zone; z < b.first_zone + b.n_zone; ++z) {
+      const Zone& zn = m.zones[static_cast<std::size_t>(z)];
+      const vtkIdType tri[3] = {zn.n[0], zn.n[1], zn.n[2]};
+      grid->InsertNextCell(VTK_TRIANGLE, 3, tri);
+      const double s[6] = {zn.stress[0], zn.stress[1], zn.szz, zn.stress[2], 0.0, 0.0};
+      stress->SetTuple(cell, s);
+      tag(cell++);
+    }
+  }
+  grid->GetCellData()->AddArray(stress);
+  grid->GetCellData()->AddArray(block_id);
+  grid->GetCellData()->AddArray(rigid);
+  grid->GetCellData()->AddArray(group);
+  write_grid(grid, path);
+}
+
+void write_contacts_vtu(const Model& m, const std::string& path) {
+  const auto& items = m.contacts.items;
+  const auto n = static_cast<vtkIdType>(items.size());
+  vtkNew<vtkUnstructuredGrid> grid;
+  auto pts = make_points(n);
+  auto sn = make_array("normal_stress", 1, n);
+  auto ss = make_array("shear_stress", 1, n);
+  auto us = make_array("shear_displacement", 1, n);
+  auto un = make_array("normal_displacement", 1, n);
+  auto len = make_array("length", 1, n);
+  auto nrm = make_array("normal", 3, n);
+  auto state = make_int_array("state", n);
+  auto pb = make_int_array("point_block", n);
+  auto ob = make_int_array("other_block", n);
+  auto joint = make_int_array("joint", n);
+  // One vertex cell per point: each cell is [1, i].
+  vtkNew<vtkIdTypeArray> conn;
+  conn->SetNumberOfValues(2 * n);
+  for (vtkIdType i = 0; i < n; ++i) {
+    const Contact& c = items[static_cast<std::size_t>(i)];
+    const Vec2& x = m.gp[static_cast<std::size_t>(c.point)].x;
+    pts->SetPoint(i, x.x(), x.y(), 0.0);
+    sn->SetValue(i, c.response.sigma_n);
+    ss->SetValue(i, c.response.tau);
+    us->SetValue(i, c.response.u_s);
+    un->SetValue(i, c.response.u_n);
+    len->SetValue(i, c.length);
+    nrm->SetTuple3(i, c.normal.x(), c.normal.y(), 0.0);
+    // Open wins over slipping: an open joint carries no shear stress, whatever the slip flag says.
+    state->SetValue(i, c.response.open ? 2 : (c.response.slipping ? 1 : 0));
+    pb->SetValue(i, c.key.point_block);
+    ob->SetValue(i, c.key.other_block);
+    joint->SetValue(i, c.joint);
+    conn->SetValue(2 * i, 1);
+    conn->SetValue(2 * i + 1, i);
+  }
+  vtkNew<vtkCellArray> cells;
+  cells->ImportLegacyFormat(conn);
+  grid->SetPoints(pts);
+  grid->SetCells(VTK_VERTEX, cells);
+  auto* pd = grid->GetPointData();
+  for (vtkDataArray* a : {static_cast<vtkDataArray*>(sn), static_cast<vtkDataArray*>(ss),
+                          static_cast<vtkDataArray*>(us), static_cast<vtkDataArray*>(un),
+                          static_cast<vtkDataArray*>(state), static_cast<vtkDataArray*>(len),
+                          static_cast<vtkDataArray*>(nrm), static_cast<vtkDataArray*>(pb),
+                          static_cast<vtkDataArray*>(ob), static_cast<vtkDataArray*>(joint)})
+    pd->AddArray(a);
+  pd->SetActiveVectors("normal");  // the default orientation for Glyph
+  write_grid(grid, path);
+}
+
+VtkSeries::VtkSeries(std::filesystem::path dir, bool contacts) : dir_(std::move(dir)), write_contacts_(contacts) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir_, ec);
+  if (ec) throw InputError("cannot create output folder '" + dir_.string() + "': " + ec.message());
+}
+
+void VtkSeries::write(const Model& m) {
+  const std::string bf = step_file("blocks", m.step);
+  write_blocks_vtu(m, (dir_ / bf).string());
+  upsert(blocks_, {m.time, m.step, bf});
+  if (write_contacts_) {
+    const std::string cf = step_file("contacts", m.step);
+    write_contacts_vtu(m, (dir_ / cf).string());
+    upsert(contacts_, {m.time, m.step, cf});
+  }
+  // Only after the .vtu files are complete, so the collection never lists a partial file.
+  write_pvd(dir_ / "blocks.pvd", blocks_);
+  if (write_contacts_) write_pvd(dir_ / "contacts.pvd", contacts_);
+}
+
+void VtkSeries::resume(double time) {
+  auto keep = [time](std::vector<Entry> v) {
+    std::erase_if(v, [time](const Entry& e) { return e.time > time; });
+    return v;
+  };
+  blocks_ = keep(read_pvd(dir_ / "blocks.pvd", "blocks"));
+  if (write_contacts_) contacts_ = keep(read_pvd(dir_ / "contacts.pvd", "contacts"));
+}
+
+}  // namespace rockdem

@@ -1,0 +1,195 @@
+// VTK output read back with VTK's own reader: cell kinds and counts, point/cell arrays, contact
+// vertices and their data, and the .pvd collections listing every step (also after a resume).
+#include <gtest/gtest.h>
+#include <unistd.h>
+#include <vtkCellData.h>
+#include <vtkDataArray.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkUnstructuredGrid.h>
+#include <vtkXMLDataElement.h>
+#include <vtkXMLDataParser.h>
+#include <vtkXMLUnstructuredGridReader.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "framework/io/vtk_output.hpp"
+#include "io_test_model.hpp"
+
+namespace fs = std::filesystem;
+using namespace rockdem;
+
+namespace {
+
+fs::path temp_dir(const std::string& name) {
+  fs::path d = fs::temp_directory_path() / ("rockdem_test_vtk_" + name + "_" + std::to_string(getpid()));
+  fs::remove_all(d);
+  return d;
+}
+
+vtkSmartPointer<vtkUnstructuredGrid> read_vtu(const fs::path& p) {
+  vtkNew<vtkXMLUnstructuredGridReader> r;
+  r->SetFileName(p.string().c_str());
+  r->Update();
+  return r->GetOutput();
+}
+
+struct PvdEntry {
+  double time;
+  std::string file;
+};
+std::vector<PvdEntry> read_pvd(const fs::path& p) {
+  vtkNew<vtkXMLDataParser> parser;
+  parser->SetFileName(p.string().c_str());
+  EXPECT_EQ(parser->Parse(), 1) << p;
+  std::vector<PvdEntry> out;
+  vtkXMLDataElement* coll = parser->GetRootElement()->FindNestedElementWithName("Collection");
+  EXPECT_NE(coll, nullptr);
+  if (!coll) return out;
+  for (int i = 0; i < coll->GetNumberOfNestedElements(); ++i) {
+    vtkXMLDataElement* e = coll->GetNestedElement(i);
+    out.push_back({std::stod(e->GetAttribute("timestep")), e->GetAttribute("file")});
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST(VtkOutput, BlocksAndContactsReadBackWithValues) {
+  const fs::path dir = temp_dir("grids");
+  Model m = test::make_io_test_model();
+  test::fill_io_test_state(m, 1.0);
+  m.step = 100;
+  VtkSeries vtk(dir);
+  vtk.write(m);
+
+  const fs::path bf = dir / "blocks_000100.vtu";
+  ASSERT_TRUE(fs::exists(bf));
+  {  // binary appended and compressed, as asked of the writer
+    std::ifstream in(bf, std::ios::binary);
+    std::string head(512, '\0');
+    in.read(head.data(), 512);
+    EXPECT_NE(head.find("vtkZLibDataCompressor"), std::string::npos);
+    EXPECT_NE(head.find("format=\"appended\""), std::string::npos);
+  }
+  auto g = read_vtu(bf);
+  ASSERT_EQ(g->GetNumberOfPoints(), 8);
+  ASSERT_EQ(g->GetNumberOfCells(), 3);  // one polygon (rigid) + two triangles (zones)
+  EXPECT_EQ(g->GetCellType(0), VTK_POLYGON);
+  EXPECT_EQ(g->GetCell(0)->GetNumberOfPoints(), 4);
+  EXPECT_EQ(g->GetCellType(1), VTK_TRIANGLE);
+  EXPECT_EQ(g->GetCellType(2), VTK_TRIANGLE);
+  EXPECT_EQ(g->GetCell(2)->GetPointId(1), 6);
+  for (vtkIdType i = 0; i < 8; ++i) {
+    double x[3];
+    g->GetPoint(i, x);
+    EXPECT_DOUBLE_EQ(x[0], m.gp[static_cast<std::size_t>(i)].x.x());
+    EXPECT_DOUBLE_EQ(x[1], m.gp[static_cast<std::size_t>(i)].x.y());
+  }
+
+  vtkDataArray* disp = g->GetPointData()->GetArray("displacement");
+  vtkDataArray* vel = g->GetPointData()->GetArray("velocity");
+  ASSERT_NE(disp, nullptr);
+  ASSERT_NE(vel, nullptr);
+  EXPECT_EQ(disp->GetNumberOfComponents(), 3);
+  for (vtkIdType i = 0; i < 8; ++i) {
+    const GridPoint& p = m.gp[static_cast<std::size_t>(i)];
+    EXPECT_DOUBLE_EQ(disp->GetComponent(i, 0), p.x.x() - p.x0.x());
+    EXPECT_DOUBLE_EQ(disp->GetComponent(i, 1), p.x.y() - p.x0.y());
+    EXPECT_EQ(disp->GetComponent(i, 2), 0.0);
+    EXPECT_DOUBLE_EQ(vel->GetComponent(i, 0), p.v.x());
+    EXPECT_DOUBLE_EQ(vel->GetComponent(i, 1), p.v.y());
+  }
+
+  vtkDataArray* stress = g->GetCellData()->GetArray("stress");
+  vtkDataArray* bid = g->GetCellData()->GetArray("block_id");
+  ASSERT_NE(stress, nullptr);
+  ASSERT_NE(bid, nullptr);
+  ASSERT_EQ(stress->GetNumberOfComponents(), 6);
+  EXPECT_TRUE(std::isnan(stress->GetComponent(0, 0)));  // rigid block: no stress
+  for (int z = 0; z < 2; ++z) {
+    const Zone& zn = m.zones[static_cast<std::size_t>(z)];
+    EXPECT_DOUBLE_EQ(stress->GetComponent(1 + z, 0), zn.stress[0]);  // XX
+    EXPECT_DOUBLE_EQ(stress->GetComponent(1 + z, 1), zn.stress[1]);  // YY
+    EXPECT_DOUBLE_EQ(stress->GetComponent(1 + z, 2), zn.szz);        // ZZ
+    EXPECT_DOUBLE_EQ(stress->GetComponent(1 + z, 3), zn.stress[2]);  // XY
+    EXPECT_EQ(stress->GetComponent(1 + z, 4), 0.0);
+  }
+  EXPECT_EQ(bid->GetComponent(0, 0), 0);
+  EXPECT_EQ(bid->GetComponent(1, 0), 1);
+  EXPECT_EQ(bid->GetComponent(2, 0), 1);
+
+  auto c = read_vtu(dir / "contacts_000100.vtu");
+  ASSERT_EQ(c->GetNumberOfPoints(), 3);
+  ASSERT_EQ(c->GetNumberOfCells(), 3);
+  EXPECT_EQ(c->GetCellType(2), VTK_VERTEX);
+  auto* pd = c->GetPointData();
+  for (const char* name : {"normal_stress", "shear_stress", "shear_displacement", "normal_displacement", "state",
+                           "length", "normal"})
+    ASSERT_NE(pd->GetArray(name), nullptr) << name;
+  for (vtkIdType i = 0; i < 3; ++i) {
+    const Contact& k = m.contacts.items[static_cast<std::size_t>(i)];
+    double x[3];
+    c->GetPoint(i, x);
+    EXPECT_DOUBLE_EQ(x[0], m.gp[static_cast<std::size_t>(k.point)].x.x());
+    EXPECT_DOUBLE_EQ(x[1], m.gp[static_cast<std::size_t>(k.point)].x.y());
+    EXPECT_DOUBLE_EQ(pd->GetArray("normal_stress")->GetComponent(i, 0), k.response.sigma_n);
+    EXPECT_DOUBLE_EQ(pd->GetArray("shear_stress")->GetComponent(i, 0), k.response.tau);
+    EXPECT_DOUBLE_EQ(pd->GetArray("shear_displacement")->GetComponent(i, 0), k.response.u_s);
+    EXPECT_DOUBLE_EQ(pd->GetArray("normal_displacement")->GetComponent(i, 0), k.response.u_n);
+    EXPECT_DOUBLE_EQ(pd->GetArray("length")->GetComponent(i, 0), k.length);
+    EXPECT_DOUBLE_EQ(pd->GetArray("normal")->GetComponent(i, 1), k.normal.y());
+  }
+  // fill_io_test_state: contact 0 elastic, 1 slipping, 2 open.
+  EXPECT_EQ(pd->GetArray("state")->GetComponent(0, 0), 0);
+  EXPECT_EQ(pd->GetArray("state")->GetComponent(1, 0), 1);
+  EXPECT_EQ(pd->GetArray("state")->GetComponent(2, 0), 2);
+  fs::remove_all(dir);
+}
+
+TEST(VtkOutput, PvdListsEveryStepAndSurvivesResume) {
+  const fs::path dir = temp_dir("pvd");
+  Model m = test::make_io_test_model();
+  {
+    VtkSeries vtk(dir);
+    m.time = 0.0;
+    m.step = 0;
+    vtk.write(m);
+    m.time = 0.125;
+    m.step = 250;
+    m.contacts.items.pop_back();  // contact sets change between steps
+    m.contacts.restore(std::vector<Contact>(m.contacts.items));
+    vtk.write(m);
+    m.time = 0.25;
+    m.step = 500;
+    vtk.write(m);
+  }
+  for (const char* which : {"blocks", "contacts"}) {
+    const auto e = read_pvd(dir / (std::string(which) + ".pvd"));
+    ASSERT_EQ(e.size(), 3u) << which;
+    EXPECT_EQ(e[0].time, 0.0);
+    EXPECT_EQ(e[1].time, 0.125);
+    EXPECT_EQ(e[2].time, 0.25);
+    EXPECT_EQ(e[1].file, std::string(which) + "_000250.vtu");
+    for (const auto& x : e) EXPECT_TRUE(fs::exists(dir / x.file)) << x.file;
+  }
+  EXPECT_EQ(read_vtu(dir / "contacts_000250.vtu")->GetNumberOfPoints(), 2);
+
+  // Restart from the checkpoint at t = 0.125: steps after it are dropped, new ones appended.
+  VtkSeries again(dir);
+  again.resume(0.125);
+  ASSERT_EQ(again.block_steps().size(), 2u);
+  EXPECT_EQ(again.block_steps()[1].step, 250);
+  m.time = 0.2;
+  m.step = 400;
+  again.write(m);
+  const auto e = read_pvd(dir / "blocks.pvd");
+  ASSERT_EQ(e.size(), 3u);
+  EXPECT_EQ(e[2].time, 0.2);
+  EXPECT_EQ(e[2].file, "blocks_000400.vtu");
+  fs::remove_all(dir);
+}
