@@ -17,10 +17,14 @@ struct TriMesh {
 };
 
 // Unstructured mesh of a simple polygon (either orientation; the mesh is counter-clockwise):
-// each polygon edge is first split into equal segments no longer than zone_size, then CGAL's
-// constrained Delaunay triangulation is refined (Delaunay_mesher_2, Ruppert/Shewchuk refinement)
-// until no zone has an angle under ~20.7 degrees (CGAL's guaranteed bound, B = sin^2 = 0.125) or
-// an edge longer than zone_size. Throws InputError for a non-simple polygon or zone_size <= 0.
+// each polygon edge is first split into equal segments no longer than zone_size (so boundary
+// gridpoints are evenly spaced along each face), then CGAL's constrained Delaunay triangulation
+// is refined (CGAL Mesh_2, Delaunay refinement after Ruppert and Shewchuk) towards zones with no
+// angle under ~20.7 degrees (B = sin^2 = 0.125) and no edge longer than zone_size, without
+// splitting the boundary further. Measured: minimum angles 26-36 degrees, longest edges up to
+// ~1.3 zone_size. Should that refinement leave an angle under 20 degrees, the full refinement
+// (which may split boundary edges) is used. Throws InputError for a non-simple polygon or
+// zone_size <= 0.
 TriMesh mesh_polygon(const Polygon& polygon, double zone_size);
 
 // Structured mesh of the rectangle [x0, x0+w] x [y0, y0+h] with nx x ny cells, so that boundary
