@@ -49,6 +49,9 @@ struct Contact {
   double length = 0.0;  // contact length [m]; stresses times length give forces per metre
   double overlap = 0.0; // geometric overlap, rounding length minus distance (>0 touching) [m]
   int joint = 0;        // index of the joint model in ContactStore::models
+  double pretouch_gap = 0.0;     // >0: found within the detection distance but not yet touching;
+                                 // the joint law starts when this gap has closed [m]
+  double pending_closure = 0.0;  // overlap found at creation, fed to the law as closure [m]
   JointStateBlock state;      // joint-law history (base law and effects)
   JointResponse response;     // last response (stresses, offsets, slip/open)
   bool fresh = true;          // created at the last detection, law state just initialised

@@ -1,0 +1,31 @@
+#pragma once
+// Checkpoints: the complete evolving state of a Model in one HDF5 file, bit for bit (doubles are
+// stored natively, joint and rock-material state as raw bytes). Used for the last good state of a
+// run that goes unstable and for restarts.
+//
+// A checkpoint is restored into a Model built from the same case: the blocks, gridpoints and zones
+// must match in number and identity (block ids and names, gridpoint (block, local) ids, zone
+// connectivity, joint-model names). Anything else is an InputError naming the file and what
+// differs, and leaves the Model untouched. Contacts come back with their joint-law state as they
+// were (ContactStore::restore), not re-initialised.
+//
+// Layout (h5py-readable): attributes format, version, time, step, thickness, gravity on /;
+// groups /gridpoints, /zones, /blocks, /contacts with one dataset per field (vectors as n x 2,
+// stresses n x 3, state blocks n x bytes of uint8); /extra holds caller scalars as attributes.
+#include <map>
+#include <string>
+
+namespace rockdem {
+
+struct Model;
+
+// Engine state that lives outside the Model (stage index, time step, loading-block travel, ...).
+using CheckpointScalars = std::map<std::string, double>;
+
+// Writes to `path` + ".tmp" and renames, so an existing checkpoint survives a crash mid-write.
+void write_checkpoint(const Model& m, const std::string& path, const CheckpointScalars& extra = {});
+
+// Restores the state written by write_checkpoint into `m` and returns the extra scalars.
+CheckpointScalars read_checkpoint(Model& m, const std::string& path);
+
+}  // namespace rockdem

@@ -1,0 +1,243 @@
+// Checkpoints: a bit-for-bit round trip of every evolving field (joint and rock state bytes
+// included), contacts restored without re-initialising their law state, extra scalars, and
+// InputErrors naming the file and the difference for checkpoints of another model.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "framework/core/error.hpp"
+#include "framework/io/checkpoint.hpp"
+#include "io_test_model.hpp"
+
+namespace fs = std::filesystem;
+using namespace rockdem;
+
+namespace {
+
+// Number of members of an aggregate, by the largest brace initialisation that compiles: a guard
+// that fails when someone adds a field to a state struct without adding it to the checkpoint.
+struct AnyField {
+  template <class T>
+  operator T() const;  // NOLINT: only used in unevaluated contexts
+};
+template <class T, class... A>
+constexpr std::size_t field_count() {
+  if constexpr (requires { T{A{}..., AnyField{}}; })
+    return field_count<T, A..., AnyField>();
+  else
+    return sizeof...(A);
+}
+
+bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+bool same_bits(const Vec2& a, const Vec2& b) { return same_bits(a.x(), b.x()) && same_bits(a.y(), b.y()); }
+bool same_bits(const Voigt3& a, const Voigt3& b) {
+  return same_bits(a[0], b[0]) && same_bits(a[1], b[1]) && same_bits(a[2], b[2]);
+}
+
+fs::path temp_dir(const std::string& name) {
+  fs::path d = fs::temp_directory_path() / ("rockdem_test_ckpt_" + name + "_" + std::to_string(getpid()));
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+std::string error_of(Model& m, const std::string& path) {
+  try {
+    read_checkpoint(m, path);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(no InputError)";
+}
+
+}  // namespace
+
+TEST(Checkpoint, StateStructsHaveTheFieldsTheCheckpointKnows) {
+  // If one of these fails, a field was added or removed: update framework/io/checkpoint.cpp
+  // (write and read), fill_io_test_state and the comparisons below, then the count here.
+  EXPECT_EQ((field_count<GridPoint>()), 11u);
+  EXPECT_EQ((field_count<Zone>()), 7u);
+  EXPECT_EQ((field_count<Contact>()), 14u);
+  EXPECT_EQ((field_count<JointResponse>()), 10u);
+  EXPECT_EQ((field_count<ContactKey>()), 3u);
+}
+
+TEST(Checkpoint, RoundTripIsBitForBit) {
+  const fs::path dir = temp_dir("roundtrip");
+  const std::string path = (dir / "last_good.h5").string();
+  Model a = test::make_io_test_model();
+  test::fill_io_test_state(a, 1.0);
+  for (auto& c : a.contacts.items) {
+    c.pretouch_gap = 1e-5 * (c.point + 0.37);
+    c.pending_closure = 1e-6 * (c.point + 0.73);
+  }
+  write_checkpoint(a, path, {{"stage", 2.0}, {"dt", 1.25e-7}});
+  EXPECT_TRUE(fs::exists(path));
+  EXPECT_FALSE(fs::exists(path + ".tmp"));
+
+  Model b = test::make_io_test_model();
+  test::fill_io_test_state(b, 7.0);  // different state everywhere, same topology
+  b.contacts.items.pop_back();       // and a different contact list
+  b.contacts.restore(std::vector<Contact>(b.contacts.items));
+  const CheckpointScalars extra = read_checkpoint(b, path);
+  EXPECT_EQ(extra.size(), 2u);
+  EXPECT_EQ(extra.at("stage"), 2.0);
+  EXPECT_EQ(extra.at("dt"), 1.25e-7);
+
+  EXPECT_TRUE(same_bits(a.time, b.time));
+  EXPECT_EQ(a.step, b.step);
+  EXPECT_TRUE(same_bits(a.gravity, b.gravity));
+  ASSERT_EQ(a.gp.size(), b.gp.size());
+  for (std::size_t i = 0; i < a.gp.size(); ++i) {
+    const GridPoint &p = a.gp[i], &q = b.gp[i];
+    EXPECT_TRUE(same_bits(p.x0, q.x0)) << i;
+    EXPECT_TRUE(same_bits(p.x, q.x)) << i;
+    EXPECT_TRUE(same_bits(p.v, q.v)) << i;
+    EXPECT_TRUE(same_bits(p.f, q.f)) << i;
+    EXPECT_TRUE(same_bits(p.mass, q.mass)) << i;
+    EXPECT_TRUE(same_bits(p.stiffness, q.stiffness)) << i;
+    EXPECT_EQ(p.block, q.block);
+    EXPECT_EQ(p.local, q.local);
+    EXPECT_EQ(p.fixed_x, q.fixed_x) << i;
+    EXPECT_EQ(p.fixed_y, q.fixed_y) << i;
+    EXPECT_EQ(p.prescribed, q.prescribed) << i;
+  }
+  for (std::size_t i = 0; i < a.zones.size(); ++i) {
+    const Zone &p = a.zones[i], &q = b.zones[i];
+    EXPECT_EQ(p.n, q.n);
+    EXPECT_TRUE(same_bits(p.area, q.area)) << i;
+    EXPECT_TRUE(same_bits(p.stress, q.stress)) << i;
+    EXPECT_TRUE(same_bits(p.szz, q.szz)) << i;
+    EXPECT_TRUE(same_bits(p.strain, q.strain)) << i;
+    EXPECT_EQ(p.material, q.material);
+    EXPECT_EQ(p.material_state, q.material_state) << i;
+  }
+  for (std::size_t i = 0; i < a.blocks.size(); ++i) {
+    const Block &p = a.blocks[i], &q = b.blocks[i];
+    EXPECT_TRUE(same_bits(p.xc, q.xc)) << i;
+    EXPECT_TRUE(same_bits(p.xc0, q.xc0)) << i;
+    EXPECT_TRUE(same_bits(p.vc, q.vc)) << i;
+    EXPECT_TRUE(same_bits(p.fc, q.fc)) << i;
+    EXPECT_TRUE(same_bits(p.theta, q.theta)) << i;
+    EXPECT_TRUE(same_bits(p.omega, q.omega)) << i;
+    EXPECT_TRUE(same_bits(p.moment, q.moment)) << i;
+    EXPECT_TRUE(same_bits(p.mass, q.mass)) << i;
+    EXPECT_TRUE(same_bits(p.inertia, q.inertia)) << i;
+    EXPECT_TRUE(same_bits(p.mass_scale, q.mass_scale)) << i;
+    EXPECT_TRUE(same_bits(p.density, q.density)) << i;
+    EXPECT_EQ(p.fixed, q.fixed) << i;
+    EXPECT_EQ(p.prescribed, q.prescribed) << i;
+    ASSERT_EQ(p.rest_offsets.size(), q.rest_offsets.size());
+    for (std::size_t k = 0; k < p.rest_offsets.size(); ++k) EXPECT_TRUE(same_bits(p.rest_offsets[k], q.rest_offsets[k]));
+  }
+  ASSERT_EQ(a.contacts.items.size(), b.contacts.items.size());
+  for (std::size_t i = 0; i < a.contacts.items.size(); ++i) {
+    const Contact &p = a.contacts.items[i], &q = b.contacts.items[i];
+    EXPECT_EQ(p.key, q.key) << i;
+    EXPECT_EQ(p.point, q.point) << i;
+    EXPECT_EQ(p.other, q.other) << i;
+    EXPECT_EQ(p.edge, q.edge) << i;
+    EXPECT_TRUE(same_bits(p.s, q.s)) << i;
+    EXPECT_TRUE(same_bits(p.normal, q.normal)) << i;
+    EXPECT_TRUE(same_bits(p.length, q.length)) << i;
+    EXPECT_TRUE(same_bits(p.overlap, q.overlap)) << i;
+    EXPECT_EQ(p.joint, q.joint) << i;
+    EXPECT_TRUE(same_bits(p.pretouch_gap, q.pretouch_gap)) << i;
+    EXPECT_TRUE(same_bits(p.pending_closure, q.pending_closure)) << i;
+    EXPECT_EQ(std::memcmp(p.state.bytes.data(), q.state.bytes.data(), kJointStateBytes), 0) << i;
+    const JointResponse &r = p.response, &s = q.response;
+    EXPECT_TRUE(same_bits(r.sigma_n, s.sigma_n) && same_bits(r.tau, s.tau) && same_bits(r.kn, s.kn) &&
+                same_bits(r.ks, s.ks) && same_bits(r.u_s, s.u_s) && same_bits(r.u_n, s.u_n) &&
+                same_bits(r.dilation, s.dilation) && same_bits(r.dissipated, s.dissipated))
+        << i;
+    EXPECT_EQ(r.slipping, s.slipping) << i;
+    EXPECT_EQ(r.open, s.open) << i;
+    EXPECT_EQ(p.fresh, q.fresh) << i;
+  }
+  // The index was rebuilt: lookups by key find the restored contacts.
+  const Contact* c = b.contacts.find(a.contacts.items[2].key);
+  ASSERT_NE(c, nullptr);
+  EXPECT_EQ(c->point, a.contacts.items[2].point);
+
+  // A later merge with the same keys keeps the restored joint state (not re-initialised).
+  std::vector<Contact> again(b.contacts.items);
+  for (auto& x : again) x.state = JointStateBlock{};
+  b.contacts.merge(std::move(again));
+  EXPECT_EQ(std::memcmp(b.contacts.items[1].state.bytes.data(), a.contacts.items[1].state.bytes.data(),
+                        kJointStateBytes), 0);
+  fs::remove_all(dir);
+}
+
+TEST(Checkpoint, MismatchedModelIsAnInputErrorNamingFileAndDifference) {
+  const fs::path dir = temp_dir("mismatch");
+  const std::string path = (dir / "ck.h5").string();
+  Model a = test::make_io_test_model();
+  test::fill_io_test_state(a, 1.0);
+  write_checkpoint(a, path);
+
+  {  // one gridpoint more
+    Model b = test::make_io_test_model();
+    b.gp.push_back(GridPoint{});
+    const std::string e = error_of(b, path);
+    EXPECT_NE(e.find(path), std::string::npos) << e;
+    EXPECT_NE(e.find("gridpoints"), std::string::npos) << e;
+    EXPECT_NE(e.find("9"), std::string::npos) << e;
+  }
+  {  // a zone fewer
+    Model b = test::make_io_test_model();
+    b.zones.pop_back();
+    const std::string e = error_of(b, path);
+    EXPECT_NE(e.find("zones"), std::string::npos) << e;
+  }
+  {  // a renamed block, and the model is left untouched
+    Model b = test::make_io_test_model();
+    b.blocks[1].name = "lid";
+    const Vec2 x_before = b.gp[5].x;
+    const std::string e = error_of(b, path);
+    EXPECT_NE(e.find("'lid'"), std::string::npos) << e;
+    EXPECT_NE(e.find("'top'"), std::string::npos) << e;
+    EXPECT_TRUE(same_bits(b.gp[5].x, x_before));
+    EXPECT_EQ(b.time, 0.0);
+  }
+  {  // different zone connectivity
+    Model b = test::make_io_test_model();
+    b.zones[1].n = {4, 7, 6};
+    const std::string e = error_of(b, path);
+    EXPECT_NE(e.find("zone 1"), std::string::npos) << e;
+  }
+  {  // a different joint-model list
+    Model b = test::make_io_test_model();
+    b.contacts.model_names = {"other_joint"};
+    const std::string e = error_of(b, path);
+    EXPECT_NE(e.find("joint models"), std::string::npos) << e;
+  }
+  {  // not a checkpoint / missing file
+    Model b = test::make_io_test_model();
+    const std::string txt = (dir / "not.h5").string();
+    std::ofstream(txt) << "hello\n";
+    EXPECT_NE(error_of(b, txt).find("not an HDF5 file"), std::string::npos);
+    EXPECT_NE(error_of(b, (dir / "missing.h5").string()).find("does not exist"), std::string::npos);
+  }
+  fs::remove_all(dir);
+}
+
+// Rewriting a checkpoint replaces it (the last good state is always the latest one written).
+TEST(Checkpoint, OverwriteKeepsTheLatestState) {
+  const fs::path dir = temp_dir("overwrite");
+  const std::string path = (dir / "ck.h5").string();
+  Model a = test::make_io_test_model();
+  test::fill_io_test_state(a, 1.0);
+  write_checkpoint(a, path);
+  a.time = 99.5;
+  a.step = 9950;
+  write_checkpoint(a, path);
+  Model b = test::make_io_test_model();
+  read_checkpoint(b, path);
+  EXPECT_EQ(b.time, 99.5);
+  EXPECT_EQ(b.step, 9950);
+  fs::remove_all(dir);
+}
