@@ -154,20 +154,26 @@ void zone_forces(Model& m, double dt, double beta_stiffness) {
                              "' turned inside out (area " + std::to_string(0.5 * a2) + " m^2) at step " +
                              std::to_string(m.step));
     }
-    const double inv = 1.0 / a2;
+    // Strain rate and spin on the mid-step configuration x - v dt/2 (see zones.hpp).
+    const double h = 0.5 * dt;
+    double bm[3], cm[3];
+    const double a2m = cst_gradients(g0.x - h * g0.v, g1.x - h * g1.v, g2.x - h * g2.v, bm, cm);
+    const double inv = 1.0 / a2m;
     const Vec2* v[3] = {&g0.v, &g1.v, &g2.v};
     // Velocity gradient L_ij = sum_n v_i^n dN^n/dx_j.
     double lxx = 0.0, lxy = 0.0, lyx = 0.0, lyy = 0.0;
     for (int k = 0; k < 3; ++k) {
-      lxx += v[k]->x() * b[k];
-      lxy += v[k]->x() * c[k];
-      lyx += v[k]->y() * b[k];
-      lyy += v[k]->y() * c[k];
+      lxx += v[k]->x() * bm[k];
+      lxy += v[k]->x() * cm[k];
+      lyx += v[k]->y() * bm[k];
+      lyy += v[k]->y() * cm[k];
     }
     const Voigt3 rate(lxx * inv, lyy * inv, (lxy + lyx) * inv);  // engineering shear rate
     const double spin = 0.5 * (lyx - lxy) * inv;                  // counter-clockwise [rad/s]
 
-    const double turn = spin * dt;
+    // On the mid-step configuration a rigid turn by theta has spin (2/dt) tan(theta/2) (Cayley
+    // transform): invert it so that the stress turns by exactly theta.
+    const double turn = 2.0 * std::atan(0.5 * spin * dt);
     rotate_tensor(turn, z.stress[0], z.stress[1], z.stress[2]);
     double exy = 0.5 * z.strain[2];
     rotate_tensor(turn, z.strain[0], z.strain[1], exy);

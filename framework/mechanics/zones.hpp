@@ -29,20 +29,24 @@ int add_deformable_block(Model& m, const TriMesh& mesh, int material, const std:
 
 // Zone update for one step of the explicit scheme; call it once per step after the gridpoint
 // positions have been advanced, with GridPoint::v the velocities that produced that advance
-// (v at t - dt/2 in central differences). For each zone:
-//  1. velocity gradient from the CST shape-function gradients (B matrix) of the *current* gridpoint
-//     positions. A rigid rotation then has zero strain rate exactly, whatever the angle already
-//     turned; an initial-configuration B would read rotation theta as a strain of order
-//     (1 - cos theta) and stress the block spuriously.
-//  2. the stress is rotated with the zone's spin (sigma <- R sigma R^T, R the rotation by
-//     omega*dt), so that a pre-stressed block that rotates carries its stress with it (the
-//     objective, Jaumann-type rotation correction of Itasca FLAC's large-strain mode, FLAC theory
-//     manual). Small strain otherwise.
-//  3. strain increment rate*dt through the rock material (Zone::stress, Zone::szz, material_state).
+// (v at t - dt/2 in central differences, x at t). For each zone:
+//  1. strain rate and spin from the velocities and the CST shape-function gradients (B matrix) of
+//     the mid-step configuration x - v dt/2, not the initial one. The increment then measures the
+//     stretch the position update really made: a rigid rotation of any size per step, moved as
+//     x += (R - I) x, gives exactly zero strain (the mid-point rule of Hughes & Winget 1980),
+//     whereas an initial-configuration B reads a block turned by theta as a strain of order
+//     (1 - cos theta) and stresses it spuriously.
+//  2. the stress (and the accumulated strain) is turned with the zone's rotation over the step
+//     (sigma <- R sigma R^T, the angle recovered exactly from the mid-step spin), so that a
+//     pre-stressed block that rotates carries its stress with it: the objective (Jaumann-type)
+//     correction of FLAC's large-strain mode. Strains are small otherwise (no finite-strain measure).
+//  3. the strain increment rate*dt goes through the rock material (Zone::stress, Zone::szz,
+//     material_state).
 //  4. stiffness-proportional Rayleigh damping stress beta*D*rate (D the plane-strain elastic
-//     matrix), added to the forces of this step only, not to Zone::stress.
-//  5. gridpoint forces f -= A * B^T * sigma (current area and B), added to GridPoint::f.
-// Throws InstabilityError naming the zone and block if a zone turns inside out.
+//     matrix) is added to the forces of this step only, not to Zone::stress.
+//  5. gridpoint forces f -= A * B^T * sigma with the current area and B (forces at time t),
+//     added to GridPoint::f.
+// Throws InstabilityError naming the zone, its block and the step if a zone turns inside out.
 void zone_forces(Model& m, double dt, double beta_stiffness);
 
 // Adds to GridPoint::stiffness, for gridpoints of deformable blocks, the absolute row sum of
