@@ -1,0 +1,76 @@
+#pragma once
+// Pieces shared by the published joint laws (mohr_coulomb, barton_bandis, continuously_yielding):
+// the `dilation` option that decides the sign of the dilation rate on reverse shearing, and the
+// fixed-point loop that makes the strength consistent with the normal stress after dilation.
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+namespace rockdem::law_support {
+
+// The three readings of dilation on reverse shearing that the CNWRA report compares (section 3
+// and 5.1): eqs. 3-4/3-7/3-17 as written ("Dilation 1": always dilates), a sign that follows the
+// direction of shear relative to the mated position ("Dilation 2": recovers), and what UDEC 1.83
+// did for Mohr-Coulomb (recovery only if the critical shear displacement was never reached).
+enum DilationOption : int { kMonotonic = 0, kReversible = 1, kUdecLegacy = 2 };
+inline std::vector<std::string> dilation_choices() { return {"monotonic", "reversible", "udec_legacy"}; }
+inline const char* dilation_doc() {
+  return "dilation on reverse shearing: monotonic = as published, dilation keeps increasing whatever the "
+         "direction (report's 'Dilation 1'); reversible = sign follows the direction of shear relative to "
+         "the mated position, so dilation recovers ('Dilation 2'); udec_legacy = UDEC 1.83 behaviour: "
+         "recovers only if the critical shear displacement was never reached, else constant on reverse";
+}
+
+// Multiplier (+1, -1 or 0) of the dilation rate for an increment du_s starting at offset u_s from
+// the mated position. u_cs is the critical shear displacement of eq. 3-4 (|u_s| >= u_cs: psi = 0);
+// `ucs_reached` is the law's persistent flag used by udec_legacy.
+inline double dilation_sign(int option, double u_s, double du_s, double u_cs, bool& ucs_reached) {
+  if (du_s == 0.0) return 0.0;
+  const bool toward_origin = u_s * du_s < 0.0;
+  const bool beyond = std::abs(u_s) >= u_cs;
+  switch (option) {
+    case kMonotonic:
+      return beyond ? 0.0 : 1.0;
+    case kReversible:
+      return beyond ? 0.0 : (toward_origin ? -1.0 : 1.0);
+    default:  // kUdecLegacy
+      if (beyond) {
+        ucs_reached = true;
+        return 0.0;
+      }
+      if (!toward_origin) return 1.0;
+      return ucs_reached ? 0.0 : -1.0;
+  }
+}
+
+// Solves sigma = final_sigma(sigma) by fixed-point iteration, where `step(sigma)` performs the
+// shear update with the strength evaluated at `sigma` and returns the normal stress after its
+// dilation. Why: under a constant normal load the element driver finds du_n such that the final
+// normal stress is the target; evaluating the strength at the trial stress (before the dilation
+// increment raises it) would make the plateau depend on kn and on the step size. The iteration
+// contracts with factor ~ kn*tan(psi)*tan(phi)/ks (< 0.3 for rock joints); if it does not
+// contract the explicit (trial-stress) result is kept. No allocation.
+template <class Step>
+double consistent_sigma(double sigma_trial, Step&& step) {
+  // Contract: when this returns, the last call made was step(returned value).
+  const double tol = 1e-12 * (std::abs(sigma_trial) + 1.0);
+  double sigma = sigma_trial;
+  double f = step(sigma);
+  double last_diff = std::abs(f - sigma);
+  for (int it = 0; it < 40 && last_diff > tol; ++it) {
+    const double next = std::max(0.0, f);
+    const double fn = step(next);
+    const double diff = std::abs(fn - next);
+    if (!(diff < last_diff)) {  // not contracting (or NaN): keep the explicit update
+      step(sigma_trial);
+      return sigma_trial;
+    }
+    sigma = next;
+    last_diff = diff;
+    f = fn;
+  }
+  return sigma;
+}
+
+}  // namespace rockdem::law_support

@@ -1,0 +1,40 @@
+#pragma once
+// Mohr-Coulomb joint with UDEC-style dilation (CNWRA report eqs. 3-1..3-4). See mohr_coulomb.cpp.
+#include "models/joint_laws/joint_law.hpp"
+
+namespace rockdem {
+
+struct MohrCoulomb {
+  static constexpr const char* name = "mohr_coulomb";
+  struct Params {
+    double kn;                   // normal stiffness [Pa/m]
+    double ks;                   // shear stiffness [Pa/m]
+    double friction;             // friction angle phi [rad]
+    double cohesion;             // C [Pa]
+    double tension;              // tensile strength [Pa]
+    double dilation_angle;       // psi [rad]
+    double critical_shear_disp;  // u_cs [m] (inf: never reached)
+    int dilation;                // law_support::DilationOption
+    bool residual_after_failure;
+    static std::vector<Param<Params>> spec();
+  };
+  struct State {
+    double sigma_n;       // [Pa] compression positive
+    double tau;           // [Pa]
+    double u_s;           // shear offset from the mated position [m]
+    double u_n;           // normal displacement, opening positive [m]
+    double gap;           // opening beyond the touching point while open (>0) [m]
+    double plastic_slip;  // accumulated |plastic shear displacement| [m]
+    double dilation;      // accumulated shear dilation [m]
+    double cohesion;      // current cohesion [Pa]
+    double tension;       // current tensile strength [Pa]
+    bool ucs_reached;     // udec_legacy: u_cs has been reached at least once
+  };
+  static void init(const Params& p, State& s);
+  static void update(const Params& p, State& s, const JointKinematics& k, JointResponse& r,
+                     EffectChain& chain);
+  static double initial_kn(const Params& p) { return p.kn; }
+  static double initial_ks(const Params& p) { return p.ks; }
+};
+
+}  // namespace rockdem
