@@ -1,0 +1,244 @@
+#include "framework/mechanics/element_driver.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "framework/core/error.hpp"
+
+namespace rockdem {
+
+ShearPath ShearPath::cycles(double amplitude, int number, double velocity, bool one_sided) {
+  ShearPath p;
+  p.kind = Kind::cycles;
+  p.amplitude = amplitude;
+  p.count = number;
+  p.velocity = velocity;
+  p.one_sided = one_sided;
+  return p;
+}
+
+ShearPath ShearPath::sinusoid(double amplitude, double frequency, int cycles) {
+  ShearPath p;
+  p.kind = Kind::sinusoid;
+  p.amplitude = amplitude;
+  p.frequency = frequency;
+  p.count = cycles;
+  return p;
+}
+
+ShearPath ShearPath::table(std::vector<double> time_s, std::vector<double> disp_m) {
+  if (time_s.size() != disp_m.size() || time_s.empty()) {
+    throw InputError("shear path table: needs as many times as displacements, at least one point");
+  }
+  for (std::size_t i = 1; i < time_s.size(); ++i) {
+    if (time_s[i] < time_s[i - 1]) throw InputError("shear path table: time must not decrease");
+  }
+  ShearPath p;
+  p.kind = Kind::table;
+  p.time = std::move(time_s);
+  p.disp = std::move(disp_m);
+  return p;
+}
+
+namespace {
+
+// Calls fn(du, dt) for every increment of `path` starting from offset u0 (no allocation). The
+// path starts where the joint is: if that is not the path's first point, a straight move to it
+// comes first.
+template <class Fn>
+void for_each_increment(const ShearPath& path, double u0, double max_step, Fn&& fn) {
+  double u = u0;
+  auto move_to = [&](double target, double duration_or_velocity, bool is_velocity) {
+    const double dist = std::abs(target - u);
+    if (dist == 0.0) {
+      if (!is_velocity && duration_or_velocity > 0.0) fn(0.0, duration_or_velocity);  // a pause
+      return;
+    }
+    const double nd = std::ceil(dist / max_step * (1.0 - 1e-12));
+    const long n = std::max(1L, static_cast<long>(nd));
+    const double start = u;
+    double prev = start;
+    for (long i = 1; i <= n; ++i) {
+      const double pos = i == n ? target : start + (target - start) * static_cast<double>(i) / static_cast<double>(n);
+      const double du = pos - prev;
+      const double dt = is_velocity ? (duration_or_velocity > 0.0 ? std::abs(du) / duration_or_velocity : 0.0)
+                                    : duration_or_velocity / static_cast<double>(n);
+      fn(du, dt);
+      prev = pos;
+    }
+    u = target;
+  };
+  switch (path.kind) {
+    case ShearPath::Kind::cycles:
+      move_to(0.0, path.velocity, true);
+      for (int c = 0; c < path.count; ++c) {
+        move_to(path.amplitude, path.velocity, true);
+        move_to(0.0, path.velocity, true);
+        if (!path.one_sided) {
+          move_to(-path.amplitude, path.velocity, true);
+          move_to(0.0, path.velocity, true);
+        }
+      }
+      break;
+    case ShearPath::Kind::sinusoid: {
+      move_to(0.0, 0.0, false);
+      const double w = 2.0 * std::numbers::pi * path.frequency;
+      const double duration = path.count / path.frequency;
+      const double travel = 4.0 * path.amplitude * path.count;  // path length of the sinusoid
+      const long n = std::max(1L, static_cast<long>(std::ceil(travel * (std::numbers::pi / 2) / max_step)));
+      const double dt = duration / static_cast<double>(n);
+      double prev = 0.0;
+      for (long i = 1; i <= n; ++i) {
+        // The last point is exactly back at the mated position (sin of a whole number of periods).
+        const double pos = i == n ? 0.0 : path.amplitude * std::sin(w * dt * static_cast<double>(i));
+        fn(pos - prev, dt);
+        prev = pos;
+      }
+      break;
+    }
+    case ShearPath::Kind::table:
+      move_to(path.disp.front(), 0.0, false);
+      for (std::size_t j = 1; j < path.disp.size(); ++j) {
+        move_to(path.disp[j], path.time[j] - path.time[j - 1], false);
+      }
+      break;
+  }
+}
+
+}  // namespace
+
+ElementDriver::ElementDriver(const JointModel& model, ElementOptions options) : model_(model), opt_(options) {
+  if (!(opt_.max_step > 0.0)) throw InputError("element driver: the shear step must be positive");
+  if (opt_.output_every < 1) throw InputError("element driver: output_every must be at least 1");
+  reset();
+}
+
+void ElementDriver::reset() {
+  model_.init(state_);
+  r_ = JointResponse{};
+  time_ = dissipated_ = u_n_ = u_n_stage_ = cns_sigma0_ = cns_u_n0_ = last_du_n_ = 0.0;
+  steps_ = unconverged_ = 0;
+  max_iter_used_ = 0;
+}
+
+long ElementDriver::count_increments(const ShearPath& path) const {
+  long n = 0;
+  for_each_increment(path, r_.u_s, opt_.max_step, [&](double, double) { ++n; });
+  return n;
+}
+
+void ElementDriver::solve_normal(const ElementStage& stage, double du_s, double dt) {
+  const JointModel& m = model_for(stage);
+  const bool cns = stage.control == NormalControl::constant_stiffness;
+  const double K = cns ? stage.normal_stiffness : 0.0;
+  JointKinematics k;
+  k.du_s = du_s;
+  k.dt = dt;
+  k.length = opt_.length;
+  auto target = [&](double du_n) {
+    return cns ? cns_sigma0_ + K * (u_n_ + du_n - cns_u_n0_) : stage.normal_stress;
+  };
+  JointStateBlock trial;
+  JointResponse rr;
+  // g(du_n) = sigma_n(du_n) - target(du_n) decreases with du_n (opening unloads the joint).
+  auto residual = [&](double du_n) {
+    trial = state_;
+    k.du_n = du_n;
+    m.update(trial, k, rr);
+    return rr.sigma_n - target(du_n);
+  };
+  const double tol = opt_.tolerance * std::max(std::abs(stage.normal_stress), 1e3);
+  double x0 = last_du_n_;
+  double g0 = residual(x0);
+  double best_x = x0, best_g = g0;
+  int it = 0;
+  if (std::abs(g0) > tol) {
+    double slope = std::max(rr.kn, 1.0) + K;
+    double x1 = x0 + g0 / slope;
+    for (it = 1; it <= opt_.max_iterations; ++it) {
+      const double g1 = residual(x1);
+      if (std::abs(g1) < std::abs(best_g)) {
+        best_x = x1;
+        best_g = g1;
+      }
+      if (std::abs(g1) <= tol) break;
+      const double secant = -(g1 - g0) / (x1 - x0);
+      // The secant is used when it is a sensible stiffness; on an open joint g is flat and the
+      // current tangent kn (from the law) closes it instead.
+      slope = (std::isfinite(secant) && secant > 0.0) ? secant : std::max(rr.kn, 1.0) + K;
+      x0 = x1;
+      g0 = g1;
+      x1 = x1 + g1 / slope;
+    }
+    if (std::abs(best_g) > tol) ++unconverged_;
+  }
+  max_iter_used_ = std::max(max_iter_used_, it);
+  if (k.du_n != best_x) residual(best_x);  // make `trial`/`rr` the accepted solution
+  state_ = trial;
+  r_ = rr;
+  u_n_ += best_x;
+  last_du_n_ = best_x;
+  time_ += dt;
+  dissipated_ += rr.dissipated;
+  ++steps_;
+}
+
+const JointResponse& ElementDriver::begin_stage(const ElementStage& stage) {
+  if (stage.control == NormalControl::constant_stiffness && !(stage.normal_stiffness >= 0.0)) {
+    throw InputError("element driver: constant normal stiffness needs normal_stiffness >= 0");
+  }
+  // Normal loading to the stage's normal stress without shear, under constant normal stress.
+  ElementStage load = stage;
+  load.control = NormalControl::constant_stress;
+  last_du_n_ = 0.0;
+  solve_normal(load, 0.0, 0.0);
+  last_du_n_ = 0.0;
+  u_n_stage_ = u_n_;
+  cns_sigma0_ = r_.sigma_n;
+  cns_u_n0_ = u_n_;
+  return r_;
+}
+
+const JointResponse& ElementDriver::step(const ElementStage& stage, double du_s, double dt) {
+  solve_normal(stage, du_s, dt);
+  return r_;
+}
+
+void ElementDriver::append_row(MeasurementFile& out, int stage) const {
+  out.rows.push_back({time_, stage, r_.sigma_n / 1e6, r_.u_s * 1e3, r_.tau / 1e6, (u_n_ - u_n_stage_) * 1e3});
+  out.extra.push_back({r_.dilation * 1e3, dissipated_});
+}
+
+void ElementDriver::run(const std::vector<ElementStage>& stages, MeasurementFile& out, int first_stage_number) {
+  if (out.extra_columns.empty()) out.extra_columns = {"dilation_mm", "dissipated_J_per_m2"};
+  long total = 0;
+  for (const auto& st : stages) total += count_increments(st.path) / opt_.output_every + 2;
+  out.rows.reserve(out.rows.size() + static_cast<std::size_t>(total));
+  out.extra.reserve(out.extra.size() + static_cast<std::size_t>(total));
+  int number = first_stage_number;
+  for (const auto& st : stages) {
+    if (st.model && std::string(st.model->law().name()) != model_.law().name()) {
+      throw InputError("element driver: a stage's model must use the same law as the specimen (" +
+                       std::string(model_.law().name()) + "), not " + st.model->law().name());
+    }
+    begin_stage(st);
+    append_row(out, number);
+    const long n = count_increments(st.path);
+    long i = 0;
+    for_each_increment(st.path, r_.u_s, opt_.max_step, [&](double du, double dt) {
+      step(st, du, dt);
+      ++i;
+      if (i % opt_.output_every == 0 || i == n) append_row(out, number);
+    });
+    ++number;
+  }
+}
+
+MeasurementFile ElementDriver::run(const std::vector<ElementStage>& stages) {
+  MeasurementFile out;
+  run(stages, out, 1);
+  return out;
+}
+
+}  // namespace rockdem
