@@ -22,25 +22,38 @@ inline const char* dilation_doc() {
          "recovers only if the critical shear displacement was never reached, else constant on reverse";
 }
 
-// Multiplier (+1, -1 or 0) of the dilation rate for an increment du_s starting at offset u_s from
-// the mated position. u_cs is the critical shear displacement of eq. 3-4 (|u_s| >= u_cs: psi = 0);
-// `ucs_reached` is the law's persistent flag used by udec_legacy.
+// Multiplier in [-1, 1] of the dilation rate for an increment du_s starting at offset u_s from
+// the mated position. u_cs is the critical shear displacement of eq. 3-4 (|u_s| >= u_cs: psi =
+// 0); `ucs_reached` is the law's persistent flag used by udec_legacy. The increment is split at
+// the mated position and at +-u_cs, so that results do not depend on where the steps fall.
 inline double dilation_sign(int option, double u_s, double du_s, double u_cs, bool& ucs_reached) {
   if (du_s == 0.0) return 0.0;
-  const bool toward_origin = u_s * du_s < 0.0;
-  const bool beyond = std::abs(u_s) >= u_cs;
+  const double a = u_s, b = u_s + du_s;
+  // Length of the part of the segment [x0, x1] (|x| non-increasing or non-decreasing) below u_cs.
+  auto inside = [u_cs](double x0, double x1) {
+    const double lo = std::min(std::abs(x0), std::abs(x1)), hi = std::max(std::abs(x0), std::abs(x1));
+    return std::max(0.0, std::min(hi, u_cs) - lo);
+  };
+  double toward = 0.0, away = 0.0;  // lengths below u_cs moving toward / away from the origin
+  if (a * b < 0.0) {
+    toward = inside(a, 0.0);
+    away = inside(0.0, b);
+  } else if (std::abs(b) < std::abs(a)) {
+    toward = inside(a, b);
+  } else {
+    away = inside(a, b);
+  }
+  const double len = std::abs(du_s);
   switch (option) {
     case kMonotonic:
-      return beyond ? 0.0 : 1.0;
+      return (toward + away) / len;
     case kReversible:
-      return beyond ? 0.0 : (toward_origin ? -1.0 : 1.0);
-    default:  // kUdecLegacy
-      if (beyond) {
-        ucs_reached = true;
-        return 0.0;
-      }
-      if (!toward_origin) return 1.0;
-      return ucs_reached ? 0.0 : -1.0;
+      return (away - toward) / len;
+    default: {  // kUdecLegacy
+      const bool was_reached = ucs_reached;
+      if (std::max(std::abs(a), std::abs(b)) >= u_cs) ucs_reached = true;
+      return (away - (was_reached ? 0.0 : toward)) / len;
+    }
   }
 }
 
