@@ -21,7 +21,8 @@ PREFIXES = {"G": 1e9, "M": 1e6, "k": 1e3, "": 1.0, "c": 1e-2, "m": 1e-3, "u": 1e
 
 def load(path):
     try:
-        f = h5py.File(path, "r")
+        # locking=False: the file may belong to a run that is still writing it
+        f = h5py.File(path, "r", locking=False)
     except OSError as e:
         sys.exit(f"plot_history: cannot open '{path}': {e}")
     if "history" not in f:

@@ -44,7 +44,11 @@ struct History::Writer {
 
   explicit Writer(const std::string& p) : path(p) {
     h5::QuietErrors quiet;
-    file = h5::Handle(H5Fcreate(p.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
+    // No file lock: users watch a running job's history (plot_history.py, h5py), and HDF5's lock
+    // would refuse them until the run ends. The file is consistent after every flush.
+    h5::Handle fapl(h5::check(H5Pcreate(H5P_FILE_ACCESS), "file access properties"), H5Pclose);
+    H5Pset_file_locking(fapl, false, true);
+    file = h5::Handle(H5Fcreate(p.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl), H5Fclose);
     if (!file.valid()) throw InputError("cannot create history file '" + p + "' (does its folder exist and is it writable?)");
   }
 

@@ -179,3 +179,48 @@ TEST(History, SurvivesAProcessThatDiesWithoutClosing) {
   H5Fclose(f);
   fs::remove_all(dir);
 }
+
+// Users read the history of a run that is still going (plot_history.py): the writer must not
+// hold HDF5's file lock, which would make every reader fail until the run ends.
+TEST(History, ReadableByAnotherProcessWhileTheRunWrites) {
+  const fs::path dir = temp_dir("live");
+  const std::string path = (dir / "h.h5").string();
+  int ready[2], done[2];
+  ASSERT_EQ(pipe(ready), 0);
+  ASSERT_EQ(pipe(done), 0);
+  const pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {  // the "run": writes, flushes, and keeps the file open until told to stop
+    History h;
+    h.define("z", "m");
+    h.open(path);
+    for (int i = 0; i < 12; ++i) {
+      const double v[1] = {0.5 * i};
+      h.sample(i, i, v);
+    }
+    h.flush();
+    char c = 'r';
+    if (write(ready[1], &c, 1) != 1) _exit(2);
+    if (read(done[0], &c, 1) != 1) _exit(3);
+    _exit(0);
+  }
+  char c = 0;
+  ASSERT_EQ(read(ready[0], &c, 1), 1);
+  hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);  // default (locking) access
+  EXPECT_GE(f, 0) << "the history of a running job cannot be opened";
+  if (f >= 0) {
+    const auto z = read_1d<double>(f, "/history/z", H5T_NATIVE_DOUBLE);
+    EXPECT_EQ(z.size(), 12u);
+    if (!z.empty()) {
+      EXPECT_EQ(z.back(), 5.5);
+    }
+    H5Fclose(f);
+  }
+  c = 'd';
+  EXPECT_EQ(write(done[1], &c, 1), 1);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+  for (int fd : {ready[0], ready[1], done[0], done[1]}) close(fd);
+  fs::remove_all(dir);
+}
