@@ -198,7 +198,11 @@ void BartonBandis::update(const Params& p, State& s, const JointKinematics& k, J
   ctx.dilation_rate = sign * std::tan(0.5 * std::max(0.0, m_tr));  // eq. 3-7
   ctx.toward_origin = u_s_before * k.du_s < 0.0;
   chain.modify(ctx);
-  const double d_strength = ctx.strength - strength_tr;
+  // Effects' change of the strength, carried through the loop below as a factor (strengths
+  // scale with sigma_n), or as an offset where the base strength is zero. Without effects the
+  // factor is exactly 1 and the offset exactly 0, so results are bit-identical.
+  const double s_factor = strength_tr > 0.0 ? ctx.strength / strength_tr : 1.0;
+  const double d_strength = strength_tr > 0.0 ? 0.0 : ctx.strength - strength_tr;
   const double rate = ctx.dilation_rate;
 
   const double tau_old = s.tau;
@@ -206,11 +210,11 @@ void BartonBandis::update(const Params& p, State& s, const JointKinematics& k, J
   double tau = tau_tr, travel = 0.0, ddil = 0.0, dus_p = 0.0;
   bool slipping = false;
   auto step = [&](double sigma) {
-    const double s_old = std::max(0.0, strength(p, d, s.delta, sigma) + d_strength);
+    const double s_old = std::max(0.0, strength(p, d, s.delta, sigma) * s_factor + d_strength);
     slipping = std::abs(tau_tr) > s_old;
     if (slipping) {
       travel = (std::abs(tau_tr) - s_old) / p.ks;
-      const double s_new = std::max(0.0, strength(p, d, s.delta + travel, sigma) + d_strength);
+      const double s_new = std::max(0.0, strength(p, d, s.delta + travel, sigma) * s_factor + d_strength);
       tau = std::copysign(std::min(std::abs(tau_tr), s_new), tau_tr);
     } else {
       travel = 0.0;

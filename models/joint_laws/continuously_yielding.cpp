@@ -163,7 +163,11 @@ void ContinuouslyYielding::update(const Params& p, State& s, const JointKinemati
   ctx.dilation_rate = sign * std::tan(psi);  // eq. 3-16
   ctx.toward_origin = u_s_before * k.du_s < 0.0;
   chain.modify(ctx);
-  const double d_strength = ctx.strength - bound_tr;
+  // Effects' change of the strength, carried through the loop below as a factor (strengths
+  // scale with sigma_n), or as an offset where the base strength is zero. Without effects the
+  // factor is exactly 1 and the offset exactly 0, so results are bit-identical.
+  const double s_factor = bound_tr > 0.0 ? ctx.strength / bound_tr : 1.0;
+  const double d_strength = bound_tr > 0.0 ? 0.0 : ctx.strength - bound_tr;
   const double rate = ctx.dilation_rate;
 
   const double dir = k.du_s > 0.0 ? 1.0 : (k.du_s < 0.0 ? -1.0 : 0.0);
@@ -175,7 +179,7 @@ void ContinuouslyYielding::update(const Params& p, State& s, const JointKinemati
     tau = tau_old;
     up = s.plastic_slip;
     rr = s.r;
-    const double bound0 = std::max(0.0, sigma * std::tan(phi_m(p, up)) + d_strength);
+    const double bound0 = std::max(0.0, sigma * std::tan(phi_m(p, up)) * s_factor + d_strength);
     if (reversal) rr = bound0 > 0.0 ? std::min(tau / (dir * bound0), 0.75) : 0.0;
     if (dir != 0.0) {
       const double limit = 0.5 * bound0 * (1.0 - rr);
@@ -183,7 +187,7 @@ void ContinuouslyYielding::update(const Params& p, State& s, const JointKinemati
       const int n = static_cast<int>(std::clamp(need, 1.0, 64.0));
       const double h = k.du_s / n;
       for (int i = 0; i < n; ++i) {
-        const double bound = std::max(0.0, sigma * std::tan(phi_m(p, up)) + d_strength);
+        const double bound = std::max(0.0, sigma * std::tan(phi_m(p, up)) * s_factor + d_strength);
         if (bound <= 0.0) {  // no strength left: the joint slides freely
           tau = 0.0;
           up += std::abs(h);

@@ -102,7 +102,11 @@ void MohrCoulomb::update(const Params& p, State& s, const JointKinematics& k, Jo
   ctx.dilation_rate = sign * std::tan(p.dilation_angle);
   ctx.toward_origin = u_s_before * k.du_s < 0.0;
   chain.modify(ctx);
-  const double d_strength = ctx.strength - strength_tr;  // effects' change, kept through the loop
+  // Effects' change of the strength, carried through the loop below as a factor (strengths
+  // scale with sigma_n), or as an offset where the base strength is zero. Without effects the
+  // factor is exactly 1 and the offset exactly 0, so results are bit-identical.
+  const double s_factor = strength_tr > 0.0 ? ctx.strength / strength_tr : 1.0;
+  const double d_strength = strength_tr > 0.0 ? 0.0 : ctx.strength - strength_tr;
   const double rate = ctx.dilation_rate;
 
   const double tau_old = s.tau;
@@ -110,7 +114,7 @@ void MohrCoulomb::update(const Params& p, State& s, const JointKinematics& k, Jo
   double tau = tau_tr, dus_p = 0.0, ddil = 0.0;
   bool slipping = false;
   auto step = [&](double sigma) {
-    const double strength = std::max(0.0, s.cohesion + sigma * tan_phi + d_strength);
+    const double strength = std::max(0.0, (s.cohesion + sigma * tan_phi) * s_factor + d_strength);
     slipping = std::abs(tau_tr) > strength;
     tau = slipping ? std::copysign(strength, tau_tr) : tau_tr;
     dus_p = slipping ? k.du_s - (tau - tau_old) / p.ks : 0.0;  // plastic part of the increment

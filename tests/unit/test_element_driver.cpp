@@ -1,0 +1,172 @@
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <numbers>
+#include <unistd.h>
+
+#include "models/joint_laws/barton_bandis.hpp"
+#include "models/joint_laws/continuously_yielding.hpp"
+#include "tests/unit/joint_law_test_util.hpp"
+
+using namespace rockdem;
+using namespace rockdem::testutil;
+
+namespace {
+constexpr double kDeg = std::numbers::pi / 180.0;
+}
+
+// Closed form of a rigid-plastic-with-elastic-stiffness Coulomb joint on a steady cycle between
+// +-U: each of the two strokes slips 2(U - tau_y/ks), so the dissipation per unit area is
+// 4 tau_y (U - tau_y/ks). ks = 10 GPa/m, sigma_n = 2 MPa, phi = 35 deg, U = 5 mm: 27,223.8 J/m^2.
+TEST(ElementDriver, CoulombSlipDissipationPerCycleMatchesTheClosedForm) {
+  auto m = model("coulomb_slip", values({{"kn", "10 GPa/m"}, {"ks", "10 GPa/m"}, {"friction", "35 deg"}}));
+  ElementDriver d(*m);
+  const auto f = d.run({cnl(2e6, ShearPath::cycles(5e-3, 2, 1e-4))});
+  const double tau_y = 2e6 * std::tan(35 * kDeg);
+  const double closed = 4.0 * tau_y * (5e-3 - tau_y / 10e9);
+  EXPECT_NEAR(closed, 27223.8, 0.05);
+  // The second cycle is the steady loop (the first starts from tau = 0).
+  const std::size_t end1 = row_at(f, 0.0, row_at(f, -5.0));
+  const double e1 = f.extra[end1][1], e2 = f.extra.back()[1];
+  EXPECT_NEAR(e2 - e1, closed, 0.5);
+  EXPECT_NEAR(d.dissipated(), e2, 1e-9);
+}
+
+TEST(ElementDriver, StagesRunInSequenceOnOneSpecimenCarryingTheWear) {
+  auto m = model("continuously_yielding", cy_report());
+  ElementDriver d(*m);
+  const auto path = ShearPath::cycles(0.01, 1, 4.2e-5);
+  const auto f = d.run({cnl(3e6, path), cnl(4e6, path), cnl(5e6, path)});
+  // Stage column, non-decreasing time, normal displacement zeroed at each stage start.
+  int stage = 1;
+  double t = 0.0;
+  std::vector<double> wear_at_start;
+  for (std::size_t i = 0; i < f.rows.size(); ++i) {
+    const auto& r = f.rows[i];
+    EXPECT_GE(r.time_s, t);
+    t = r.time_s;
+    EXPECT_GE(r.stage, stage);
+    if (i == 0 || r.stage != f.rows[i - 1].stage) {
+      EXPECT_EQ(r.normal_disp_mm, 0.0);
+      EXPECT_EQ(r.shear_disp_mm, 0.0);
+    }
+    stage = r.stage;
+    EXPECT_NEAR(r.normal_stress_MPa, r.stage + 2.0, 1e-6);
+  }
+  EXPECT_EQ(stage, 3);
+  // Each stage's first forward peak, divided by its normal stress, falls: the specimen wears.
+  std::vector<double> ratio;
+  for (int s = 1; s <= 3; ++s) {
+    double peak = 0.0;
+    for (const auto& r : f.rows)
+      if (r.stage == s) peak = std::max(peak, r.shear_stress_MPa);
+    ratio.push_back(peak / (s + 2.0));
+  }
+  EXPECT_LT(ratio[1], ratio[0]);
+  EXPECT_LT(ratio[2], ratio[1]);
+  // A fresh specimen at 5 MPa has a higher peak ratio than the worn one.
+  ElementDriver fresh(*m);
+  const auto g = fresh.run({cnl(5e6, path)});
+  EXPECT_GT(max_tau(g, 0, g.rows.size()) / 5.0, ratio[2] + 0.05);
+  // The state is carried, not reset: u_s^p at the end equals the sum over the stages.
+  const auto st = law_state<ContinuouslyYielding::State>(d.state());
+  EXPECT_GT(st.plastic_slip, 0.11);  // three 40 mm cycles, mostly plastic
+}
+
+TEST(ElementDriver, PerStageParametersKeepTheState) {
+  auto m3 = model("mohr_coulomb", mc_report());
+  auto m4 = model("mohr_coulomb", mc_report({{"ks", "13.876 GPa/m"}, {"dilation_angle", "1.6 deg"}}));
+  ElementDriver d(*m3);
+  ElementStage s1 = cnl(3e6, ShearPath::cycles(0.005, 1, 1e-4, true));
+  ElementStage s2 = cnl(4e6, ShearPath::cycles(0.005, 1, 1e-4, true));
+  s2.model = m4.get();
+  const auto f = d.run({s1, s2});
+  const std::size_t start2 = row_at(f, 0.0, row_at(f, 5.0) + 1) + 1;
+  ASSERT_EQ(f.rows[start2].stage, 2);
+  // Stage 2 uses its own ks: first increment 0.01 mm -> 13.876e9 * 1e-5 Pa.
+  EXPECT_NEAR(f.rows[start2 + 1].shear_stress_MPa - f.rows[start2].shear_stress_MPa, 0.13876, 1e-6);
+}
+
+TEST(ElementDriver, ConstantNormalStiffnessRaisesTheNormalStressWithDilation) {
+  auto m = model("mohr_coulomb", mc_report());
+  ElementDriver d(*m);
+  ElementStage st = cnl(3e6, ShearPath::cycles(0.01, 1, 1e-4, true));
+  st.control = NormalControl::constant_stiffness;
+  st.normal_stiffness = 1e9;  // 1 MPa per mm of dilation
+  const auto f = d.run({st});
+  EXPECT_EQ(d.unconverged_steps(), 0);
+  for (const auto& r : f.rows) EXPECT_NEAR(r.normal_stress_MPa, 3.0 + 1.0 * r.normal_disp_mm, 1e-6);
+  const std::size_t top = row_at(f, 10.0);
+  EXPECT_GT(f.rows[top].normal_stress_MPa, 3.3);
+  // Friction still governs: tau = sigma_n tan(phi) while slipping.
+  EXPECT_NEAR(f.rows[top].shear_stress_MPa, f.rows[top].normal_stress_MPa * std::tan(38 * kDeg), 1e-3);
+}
+
+TEST(ElementDriver, SinusoidAndFilePaths) {
+  auto m = model("mohr_coulomb", mc_report());
+  {
+    ElementDriver d(*m);
+    const auto f = d.run({cnl(3e6, ShearPath::sinusoid(0.004, 2.0, 3))});
+    double umax = 0.0, umin = 0.0;
+    for (const auto& r : f.rows) {
+      umax = std::max(umax, r.shear_disp_mm);
+      umin = std::min(umin, r.shear_disp_mm);
+    }
+    EXPECT_NEAR(umax, 4.0, 1e-3);
+    EXPECT_NEAR(umin, -4.0, 1e-3);
+    EXPECT_NEAR(f.rows.back().time_s, 1.5, 1e-9);  // 3 cycles at 2 Hz
+    EXPECT_EQ(f.rows.back().shear_disp_mm, 0.0);
+    for (std::size_t i = 1; i < f.rows.size(); ++i)
+      EXPECT_LE(std::abs(f.rows[i].shear_disp_mm - f.rows[i - 1].shear_disp_mm), 0.01 + 1e-12);
+  }
+  {
+    // A (time, displacement) history, e.g. a laboratory record replayed.
+    MeasurementFile rec;
+    rec.rows = {{0.0, 1, 3, 0.0, 0, 0}, {10.0, 1, 3, 2.0, 0, 0}, {12.0, 1, 3, 2.0, 0, 0}, {20.0, 1, 3, -1.0, 0, 0}};
+    const std::string p = (std::filesystem::temp_directory_path() / ("rockdem_path_" + std::to_string(::getpid()) + ".csv")).string();
+    write_measurement_csv(p, rec);
+    const auto back = read_measurement_csv(p);
+    std::vector<double> t, u;
+    for (const auto& r : back.rows) {
+      t.push_back(r.time_s);
+      u.push_back(r.shear_disp_mm * 1e-3);
+    }
+    std::filesystem::remove(p);
+    ElementDriver d(*m);
+    const auto f = d.run({cnl(3e6, ShearPath::table(t, u))});
+    const std::size_t at2 = row_at(f, 2.0);
+    EXPECT_NEAR(f.rows[at2].time_s, 10.0, 1e-9);
+    EXPECT_NEAR(f.rows.back().time_s, 20.0, 1e-9);
+    EXPECT_NEAR(f.rows.back().shear_disp_mm, -1.0, 1e-12);
+    EXPECT_EQ(f.rows.size(), 1u + 200u + 1u + 300u);  // start, 200 steps, the pause, 300 steps
+  }
+}
+
+TEST(ElementDriver, AFull40mmPseudostaticCycleAt001mmRunsInMilliseconds) {
+  for (const auto& [law, params] : std::vector<std::pair<const char*, RawValues>>{
+           {"mohr_coulomb", mc_report()}, {"barton_bandis", bb_report()}, {"continuously_yielding", cy_report()}}) {
+    auto m = model(law, params);
+    ElementDriver d(*m);
+    const auto t0 = std::chrono::steady_clock::now();
+    const auto f = d.run({cnl(3e6, ShearPath::cycles(0.02, 1, 4.2e-5))});
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    EXPECT_EQ(f.rows.size(), 8001u);
+    EXPECT_LT(ms, 100.0) << law;  // measured figures are in docs/performance.md
+    RecordProperty(std::string(law) + "_ms", std::to_string(ms));
+  }
+}
+
+TEST(ElementDriver, RejectsBadOptionsAndMismatchedStageModels) {
+  auto m = model("mohr_coulomb", mc_report());
+  ElementOptions o;
+  o.max_step = 0.0;
+  EXPECT_THROW(ElementDriver(*m, o), InputError);
+  auto other = model("continuously_yielding", cy_report());
+  ElementDriver d(*m);
+  ElementStage st = cnl(3e6, ShearPath::cycles(0.001, 1, 1e-4));
+  st.model = other.get();
+  EXPECT_THROW(d.run({st}), InputError);
+  EXPECT_THROW(ShearPath::table({0.0, 1.0, 0.5}, {0.0, 1e-3, 2e-3}), InputError);
+}
