@@ -63,9 +63,10 @@ vtkNew<vtkPoints> make_points(vtkIdType n) {
   return p;
 }
 
+// Nine digits: runs reach millions of steps, and padded names keep `ls` and globs in step order.
 std::string step_file(const char* prefix, long step) {
   char buf[64];
-  std::snprintf(buf, sizeof buf, "%s_%06ld.vtu", prefix, step);
+  std::snprintf(buf, sizeof buf, "%s_%09ld.vtu", prefix, step);
   return buf;
 }
 

@@ -67,7 +67,7 @@ TEST(VtkOutput, BlocksAndContactsReadBackWithValues) {
   VtkSeries vtk(dir);
   vtk.write(m);
 
-  const fs::path bf = dir / "blocks_000100.vtu";
+  const fs::path bf = dir / "blocks_000000100.vtu";
   ASSERT_TRUE(fs::exists(bf));
   {  // binary appended and compressed, as asked of the writer
     std::ifstream in(bf, std::ios::binary);
@@ -123,7 +123,7 @@ TEST(VtkOutput, BlocksAndContactsReadBackWithValues) {
   EXPECT_EQ(bid->GetComponent(1, 0), 1);
   EXPECT_EQ(bid->GetComponent(2, 0), 1);
 
-  auto c = read_vtu(dir / "contacts_000100.vtu");
+  auto c = read_vtu(dir / "contacts_000000100.vtu");
   ASSERT_EQ(c->GetNumberOfPoints(), 3);
   ASSERT_EQ(c->GetNumberOfCells(), 3);
   EXPECT_EQ(c->GetCellType(2), VTK_VERTEX);
@@ -174,10 +174,10 @@ TEST(VtkOutput, PvdListsEveryStepAndSurvivesResume) {
     EXPECT_EQ(e[0].time, 0.0);
     EXPECT_EQ(e[1].time, 0.125);
     EXPECT_EQ(e[2].time, 0.25);
-    EXPECT_EQ(e[1].file, std::string(which) + "_000250.vtu");
+    EXPECT_EQ(e[1].file, std::string(which) + "_000000250.vtu");
     for (const auto& x : e) EXPECT_TRUE(fs::exists(dir / x.file)) << x.file;
   }
-  EXPECT_EQ(read_vtu(dir / "contacts_000250.vtu")->GetNumberOfPoints(), 2);
+  EXPECT_EQ(read_vtu(dir / "contacts_000000250.vtu")->GetNumberOfPoints(), 2);
 
   // Restart from the checkpoint at t = 0.125: steps after it are dropped, new ones appended.
   VtkSeries again(dir);
@@ -190,6 +190,6 @@ TEST(VtkOutput, PvdListsEveryStepAndSurvivesResume) {
   const auto e = read_pvd(dir / "blocks.pvd");
   ASSERT_EQ(e.size(), 3u);
   EXPECT_EQ(e[2].time, 0.2);
-  EXPECT_EQ(e[2].file, "blocks_000400.vtu");
+  EXPECT_EQ(e[2].file, "blocks_000000400.vtu");
   fs::remove_all(dir);
 }
