@@ -150,9 +150,10 @@ void zone_forces(Model& m, double dt, double beta_stiffness) {
     const double a2 = cst_gradients(g0.x, g1.x, g2.x, b, c);
     if (!(a2 > 0.0)) {
       const Block& blk = m.blocks[g0.block];
-      throw InstabilityError("zone " + std::to_string(iz - blk.first_zone) + " of block '" + blk.name +
-                             "' turned inside out (area " + std::to_string(0.5 * a2) + " m^2) at step " +
-                             std::to_string(m.step));
+      const std::string what = std::isfinite(a2) ? "turned inside out (area " + std::to_string(0.5 * a2) + " m^2)"
+                                                 : "has non-finite gridpoint positions";
+      throw InstabilityError("zone " + std::to_string(iz - blk.first_zone) + " of block '" + blk.name + "' " +
+                             what + " at step " + std::to_string(m.step));
     }
     // Strain rate and spin on the mid-step configuration x - v dt/2 (see zones.hpp).
     const double h = 0.5 * dt;
