@@ -149,30 +149,43 @@ void ElementDriver::solve_normal(const ElementStage& stage, double du_s, double 
     return rr.sigma_n - target(du_n);
   };
   const double tol = opt_.tolerance * std::max(std::abs(stage.normal_stress), 1e3);
-  double x0 = last_du_n_;
-  double g0 = residual(x0);
-  double best_x = x0, best_g = g0;
-  int it = 0;
-  if (std::abs(g0) > tol) {
-    double slope = std::max(rr.kn, 1.0) + K;
-    double x1 = x0 + g0 / slope;
-    for (it = 1; it <= opt_.max_iterations; ++it) {
-      const double g1 = residual(x1);
-      if (std::abs(g1) < std::abs(best_g)) {
-        best_x = x1;
-        best_g = g1;
-      }
-      if (std::abs(g1) <= tol) break;
-      const double secant = -(g1 - g0) / (x1 - x0);
-      // The secant is used when it is a sensible stiffness; on an open joint g is flat and the
-      // current tangent kn (from the law) closes it instead.
-      slope = (std::isfinite(secant) && secant > 0.0) ? secant : std::max(rr.kn, 1.0) + K;
-      x0 = x1;
-      g0 = g1;
-      x1 = x1 + g1 / slope;
+  // Secant iteration safeguarded by a bracket: g decreases with du_n, so a point with g > 0
+  // (too much normal stress) lies left of the root and one with g < 0 right of it. Where g is
+  // flat (an open joint carries nothing) the step doubles until the root is bracketed.
+  double x = last_du_n_;
+  double g = residual(x);
+  double best_x = x, best_g = g;
+  double lo = -kInf, hi = kInf;  // bracket: g(lo) > 0 > g(hi)
+  auto note = [&](double xv, double gv) {
+    if (gv > 0.0) lo = std::max(lo, xv);
+    if (gv < 0.0) hi = std::min(hi, xv);
+    if (std::abs(gv) < std::abs(best_g)) {
+      best_x = xv;
+      best_g = gv;
     }
-    if (std::abs(best_g) > tol) ++unconverged_;
+  };
+  note(x, g);
+  int it = 0;
+  double step = g / (std::max(rr.kn, 1.0) + K);
+  while (std::abs(best_g) > tol && it < opt_.max_iterations) {
+    ++it;
+    double xn = x + step;
+    const bool bracketed = std::isfinite(lo) && std::isfinite(hi);
+    if (bracketed && !(xn > lo && xn < hi)) xn = 0.5 * (lo + hi);
+    const double gn = residual(xn);
+    note(xn, gn);
+    const double secant = -(gn - g) / (xn - x);
+    if (std::isfinite(secant) && secant > 0.0) {
+      step = gn / secant;
+    } else if (!(std::isfinite(lo) && std::isfinite(hi))) {
+      step = 2.0 * (xn - x);  // flat: widen the search in the same direction
+    } else {
+      step = 0.5 * (lo + hi) - xn;
+    }
+    x = xn;
+    g = gn;
   }
+  if (std::abs(best_g) > tol) ++unconverged_;
   max_iter_used_ = std::max(max_iter_used_, it);
   if (k.du_n != best_x) residual(best_x);  // make `trial`/`rr` the accepted solution
   state_ = trial;

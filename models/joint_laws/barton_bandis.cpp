@@ -170,8 +170,8 @@ void BartonBandis::update(const Params& p, State& s, const JointKinematics& k, J
   // The closure of the contact decreases with opening and increases with dilation under
   // constrained normal displacement; a negative closure is an open gap (no stresses, no tension).
   const double v_tr = s.closure - k.du_n;
-  if (v_tr < 0.0) {
-    s.closure = v_tr;
+  auto finish_open = [&](double closure) {
+    s.closure = closure;
     s.sigma_n = 0.0;
     s.tau = 0.0;
     r.kn = cl.tangent(0.0);
@@ -179,13 +179,16 @@ void BartonBandis::update(const Params& p, State& s, const JointKinematics& k, J
     r.u_s = s.u_s;
     r.u_n = s.u_n;
     r.dilation = s.dilation;
-    return;
-  }
+  };
+  if (s.closure < 0.0 && v_tr < 0.0) return finish_open(v_tr);  // open and staying open
   const double sigma_tr = cl.sigma(v_tr);
 
   const double sign = law_support::dilation_sign(p.dilation, u_s_before, k.du_s, p.critical_shear_disp,
                                                  s.ucs_reached);
-  const double m_tr = mobilised_roughness(p, d, s.delta, sigma_tr);
+  // Eq. 3-7's roughness with the normal stress at the start of the increment (under constant
+  // normal stress, the applied one); the strength uses the consistent stress below.
+  const double sigma_psi = s.sigma_n > 0.0 ? s.sigma_n : sigma_tr;
+  const double m_tr = mobilised_roughness(p, d, s.delta, sigma_psi);
   const double strength_tr = strength(p, d, s.delta, sigma_tr);
   ShearContext ctx;
   ctx.sigma_n = sigma_tr;
@@ -226,10 +229,13 @@ void BartonBandis::update(const Params& p, State& s, const JointKinematics& k, J
   };
   law_support::consistent_sigma(sigma_tr, step);
 
+  // No tensile strength: open if the closure after the increment's dilation is negative (the
+  // shear increment then acted on no contact and is discarded).
+  if (v_tr + ddil < 0.0) return finish_open(std::min(v_tr, v_tr + ddil));
   s.delta += travel;
   s.plastic_slip += std::abs(dus_p);
   s.dilation += ddil;
-  s.closure = std::max(0.0, v_tr + ddil);
+  s.closure = v_tr + ddil;
   s.sigma_n = cl.sigma(s.closure);
   s.tau = tau;
   r.kn = cl.tangent(s.closure);

@@ -14,7 +14,7 @@
 //  - the power laws use sigma_n in units of `reference_stress` (1 MPa: Table 4-4 is in MPa);
 //  - F is capped at 1 (no response stiffer than elastic), so u_s^p never decreases;
 //  - psi is clamped at >= 0 and evaluated with the shear stress at the start of the increment;
-//  - an increment is split so that Ks |du| <= tau_o (1 - r) / 2 (at most 64 parts): the explicit
+//  - an increment is split so that Ks |du| <= tau_o (1 - r) / 2 (at most 32 parts): the explicit
 //    update cannot then overshoot the bound; a step crossing the bound from below stops on it;
 //  - separation sets tau = 0 and r = 0; re-contact keeps u_s^p (wear) and the dilation.
 #include "models/joint_laws/continuously_yielding.hpp"
@@ -142,16 +142,15 @@ void ContinuouslyYielding::update(const Params& p, State& s, const JointKinemati
   } else {
     sigma_tr = s.sigma_n - kn * k.du_n;
   }
-  if (sigma_tr < 0.0) {  // no tensile strength
-    s.gap = -sigma_tr / kn;
-    return finish_open();
-  }
 
   const double sign = law_support::dilation_sign(p.dilation, u_s_before, k.du_s, p.critical_shear_disp,
                                                  s.ucs_reached);
   const double phim = phi_m(p, s.plastic_slip);
   const double bound_tr = sigma_tr * std::tan(phim);
-  const double psi = sigma_tr > 0.0 ? std::max(0.0, std::atan(std::abs(s.tau) / sigma_tr) - p.friction) : 0.0;
+  // Eq. 3-16 with the stresses at the start of the increment (the normal stress the strength
+  // and dilation were in balance with; under constant normal stress this is the applied one).
+  const double sigma_psi = s.sigma_n > 0.0 ? s.sigma_n : sigma_tr;
+  const double psi = sigma_psi > 0.0 ? std::max(0.0, std::atan(std::abs(s.tau) / sigma_psi) - p.friction) : 0.0;
   ShearContext ctx;
   ctx.sigma_n = sigma_tr;
   ctx.u_s = u_s_before;
@@ -173,6 +172,17 @@ void ContinuouslyYielding::update(const Params& p, State& s, const JointKinemati
   const double dir = k.du_s > 0.0 ? 1.0 : (k.du_s < 0.0 ? -1.0 : 0.0);
   const bool reversal = dir != 0.0 && s.last_dir != 0.0 && dir != s.last_dir;
   const double tau_old = s.tau;
+  // Number of parts of the increment, fixed from the stresses at its start so that the result
+  // is a continuous function of du_n (the element driver solves for it).
+  int n_sub = 1;
+  {
+    const double sig0 = s.sigma_n > 0.0 ? s.sigma_n : std::max(0.0, sigma_tr);
+    const double b0 = sig0 * std::tan(phim) * s_factor + d_strength;
+    const double r0 = reversal ? -0.75 : s.r;  // a reversal starts near -tau_o: (1 - r) ~ 2
+    const double limit = 0.5 * b0 * (1.0 - r0);
+    const double need = limit > 0.0 ? std::ceil(shear_stiffness(p, sig0) * std::abs(k.du_s) / limit) : 1.0;
+    n_sub = static_cast<int>(std::clamp(need, 1.0, 32.0));
+  }
   double tau = tau_old, up = s.plastic_slip, rr = s.r, ks = 0.0, ddil = 0.0;
   auto step = [&](double sigma) {
     ks = shear_stiffness(p, sigma);
@@ -182,11 +192,8 @@ void ContinuouslyYielding::update(const Params& p, State& s, const JointKinemati
     const double bound0 = std::max(0.0, sigma * std::tan(phi_m(p, up)) * s_factor + d_strength);
     if (reversal) rr = bound0 > 0.0 ? std::min(tau / (dir * bound0), 0.75) : 0.0;
     if (dir != 0.0) {
-      const double limit = 0.5 * bound0 * (1.0 - rr);
-      const double need = limit > 0.0 ? std::ceil(ks * std::abs(k.du_s) / limit) : 1.0;
-      const int n = static_cast<int>(std::clamp(need, 1.0, 64.0));
-      const double h = k.du_s / n;
-      for (int i = 0; i < n; ++i) {
+      const double h = k.du_s / n_sub;
+      for (int i = 0; i < n_sub; ++i) {
         const double bound = std::max(0.0, sigma * std::tan(phi_m(p, up)) * s_factor + d_strength);
         if (bound <= 0.0) {  // no strength left: the joint slides freely
           tau = 0.0;
@@ -207,13 +214,20 @@ void ContinuouslyYielding::update(const Params& p, State& s, const JointKinemati
   };
   law_support::consistent_sigma(sigma_tr, step);
 
+  // No tensile strength: the joint opens if the stress after the increment's dilation is tensile
+  // (the shear increment then acted on no contact and is discarded).
+  const double sigma_final = sigma_tr + kn * ddil;
+  if (sigma_final < 0.0) {
+    s.gap = -std::min(sigma_tr, sigma_final) / kn;
+    return finish_open();
+  }
   const double dus_p = k.du_s - (tau - tau_old) / ks;
   const double up_before = s.plastic_slip;
   s.plastic_slip = up;
   s.r = rr;
   if (dir != 0.0) s.last_dir = dir;
   s.dilation += ddil;
-  s.sigma_n = std::max(0.0, sigma_tr + kn * ddil);
+  s.sigma_n = sigma_final;
   s.tau = tau;
   r.ks = ks;
   r.sigma_n = s.sigma_n;

@@ -72,7 +72,7 @@ double consistent_sigma(double sigma_trial, Step&& step) {
   double f = step(sigma);
   double last_diff = std::abs(f - sigma);
   for (int it = 0; it < 40 && last_diff > tol; ++it) {
-    const double next = std::max(0.0, f);
+    const double next = f;
     const double fn = step(next);
     const double diff = std::abs(fn - next);
     if (!(diff < last_diff)) {  // not contracting (or NaN): keep the explicit update

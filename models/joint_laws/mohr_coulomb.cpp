@@ -81,11 +81,6 @@ void MohrCoulomb::update(const Params& p, State& s, const JointKinematics& k, Jo
   } else {
     sigma_tr = s.sigma_n - p.kn * k.du_n;
   }
-  if (sigma_tr < -s.tension) {  // tensile failure (report section 3.1): sigma_n becomes zero
-    s.gap = -sigma_tr / p.kn;
-    if (p.residual_after_failure) s.cohesion = s.tension = 0.0;
-    return finish_open();
-  }
 
   const double sign = law_support::dilation_sign(p.dilation, u_s_before, k.du_s, p.critical_shear_disp,
                                                  s.ucs_reached);
@@ -123,10 +118,19 @@ void MohrCoulomb::update(const Params& p, State& s, const JointKinematics& k, Jo
   };
   law_support::consistent_sigma(sigma_tr, step);
 
+  // Tensile failure (report section 3.1) is judged after the increment's dilation, which pushes
+  // the surfaces together under constrained normal displacement: sigma_n becomes zero and the
+  // joint opens; the shear increment then acted on no contact and is discarded.
+  const double sigma_final = sigma_tr + p.kn * ddil;
+  if (sigma_final < -s.tension) {
+    s.gap = -std::min(sigma_tr, sigma_final) / p.kn;
+    if (p.residual_after_failure) s.cohesion = s.tension = 0.0;
+    return finish_open();
+  }
   if (slipping && p.residual_after_failure) s.cohesion = s.tension = 0.0;
   s.plastic_slip += std::abs(dus_p);
   s.dilation += ddil;
-  s.sigma_n = std::max(0.0, sigma_tr + p.kn * ddil);
+  s.sigma_n = sigma_final;
   s.tau = tau;
   r.sigma_n = s.sigma_n;
   r.tau = s.tau;

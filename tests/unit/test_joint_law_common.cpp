@@ -161,8 +161,11 @@ TEST_P(EveryLaw, ExtremeValidInputsGiveNoNaN) {
   for (double sigma : {0.0, 1.0, 1e3, 1e8, 5e8}) {
     auto m = model(c.law, c.params);
     ElementDriver d(*m);
-    const auto f = d.run({cnl(sigma, ShearPath::cycles(0.05, 2, 1e-3))});
+    const auto f = d.run({cnl(sigma, ShearPath::cycles(0.01, 2, 1e-3))});
     EXPECT_TRUE(finite_rows(f)) << c.law << " sigma_n " << sigma;
+    if (sigma >= 1e6) {  // below ~1 kPa CY can miss the 1e-7 Pa tolerance on a few increments
+      EXPECT_EQ(d.unconverged_steps(), 0) << c.law << " sigma_n " << sigma;
+    }
   }
   // Coarse steps (5 mm) and tiny steps (1 nm) on the same path.
   for (double step : {5e-3, 1e-9}) {
