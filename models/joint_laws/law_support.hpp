@@ -57,33 +57,37 @@ inline double dilation_sign(int option, double u_s, double du_s, double u_cs, bo
   }
 }
 
-// Solves sigma = final_sigma(sigma) by fixed-point iteration, where `step(sigma)` performs the
-// shear update with the strength evaluated at `sigma` and returns the normal stress after its
-// dilation. Why: under a constant normal load the element driver finds du_n such that the final
-// normal stress is the target; evaluating the strength at the trial stress (before the dilation
-// increment raises it) would make the plateau depend on kn and on the step size. The iteration
-// contracts with factor ~ kn*tan(psi)*tan(phi)/ks (< 0.3 for rock joints); if it does not
-// contract the explicit (trial-stress) result is kept. No allocation.
+// Solves sigma = step(sigma), where `step(sigma)` performs the shear update with the strength
+// evaluated at `sigma` and returns the normal stress after its dilation. Why: under a constant
+// normal load the element driver finds du_n such that the final normal stress is the target;
+// evaluating the strength at the trial stress (before the dilation increment raises it) would
+// make the plateau depend on kn and on the step size. Secant iteration on
+// h(sigma) = step(sigma) - sigma, which is linear while the joint slips at a constant rate (one
+// secant step then solves it, even where plain fixed-point iteration would diverge, i.e. when
+// kn tan(psi) tan(phi) > ks). If it fails, the explicit (trial-stress) update is kept.
+// Contract: when this returns, the last call made was step(returned value). No allocation.
 template <class Step>
 double consistent_sigma(double sigma_trial, Step&& step) {
-  // Contract: when this returns, the last call made was step(returned value).
   const double tol = 1e-12 * (std::abs(sigma_trial) + 1.0);
-  double sigma = sigma_trial;
-  double f = step(sigma);
-  double last_diff = std::abs(f - sigma);
-  for (int it = 0; it < 40 && last_diff > tol; ++it) {
-    const double next = f;
-    const double fn = step(next);
-    const double diff = std::abs(fn - next);
-    if (!(diff < last_diff)) {  // not contracting (or NaN): keep the explicit update
-      step(sigma_trial);
-      return sigma_trial;
-    }
-    sigma = next;
-    last_diff = diff;
-    f = fn;
+  double s0 = sigma_trial;
+  double h0 = step(s0) - s0;
+  if (!(std::abs(h0) > tol)) return s0;
+  double s1 = s0 + h0;
+  double h1 = step(s1) - s1;
+  for (int it = 0; it < 40; ++it) {
+    if (std::abs(h1) <= tol) return s1;
+    const double slope = (h1 - h0) / (s1 - s0);
+    if (!std::isfinite(slope) || slope == 0.0) break;
+    const double s2 = s1 - h1 / slope;
+    if (!std::isfinite(s2)) break;
+    s0 = s1;
+    h0 = h1;
+    s1 = s2;
+    h1 = step(s1) - s1;
   }
-  return sigma;
+  if (std::abs(h1) <= tol) return s1;
+  step(sigma_trial);
+  return sigma_trial;
 }
 
 }  // namespace rockdem::law_support
