@@ -114,11 +114,16 @@ std::string table_where(const toml::table& t, const std::string& file, const std
   return toml_where(t, file) + " [" + path + "]";
 }
 
-RawValues table_values(const toml::table& t, const std::string& file, const std::string& path,
-                       std::initializer_list<const char*> skip) {
-  toml::table copy = t;
-  for (const char* k : skip) copy.erase(k);
-  return raw_values(copy, file, path);
+// Cross-parameter checks (a law's validate()) do not know where the table was written; add it.
+template <class Fn>
+auto located(const std::string& file, const std::string& where, Fn&& fn) {
+  try {
+    return fn();
+  } catch (const InputError& e) {
+    const std::string m = e.what();
+    if (m.rfind(file, 0) == 0) throw;
+    throw InputError(where + ": " + m);
+  }
 }
 
 struct ElementCase {
@@ -152,7 +157,7 @@ ElementCase read_case(const std::string& file) {
       if (!sp->is_string()) throw InputError(where_of(*sp, file, "element.specimen") + ": specimen must be a string");
       c.specimen = sp->as_string()->get();
     }
-    c.settings = bind_params<ElementSettings>(table_values(*t, file, "element", {"specimen"}), "[element]",
+    c.settings = bind_params<ElementSettings>(raw_values(*t, file, "element", {"specimen"}), "[element]",
                                               table_where(*t, file, "element"));
   } else {
     c.settings = bind_params<ElementSettings>({}, "[element]", file);
@@ -187,7 +192,7 @@ ElementCase read_case(const std::string& file) {
         const auto* nm = et->get("name");
         if (!nm || !nm->is_string()) throw InputError(es.where + ": an effect table needs name = \"<effect>\"");
         es.name = nm->as_string()->get();
-        es.params = table_values(*et, file, "joint.effects." + es.name, {"name"});
+        es.params = raw_values(*et, file, "joint.effects." + es.name, {"name"});
       } else {
         throw InputError(es.where + ": an effect is a name or a table {name = \"...\", <parameters>}; valid names: " +
                          EffectRegistry::instance().names_joined());
@@ -204,7 +209,7 @@ ElementCase read_case(const std::string& file) {
     params_where = table_where(*pt, file, "joint.params");
   }
   JointLawRegistry::instance().get(law, "joint law", law_where);
-  c.model = make_joint_model(law, law_params, effects, params_where);
+  c.model = located(file, params_where, [&] { return make_joint_model(law, law_params, effects, params_where); });
 
   // [[stage]]
   const auto* sn = root.get("stage");
@@ -221,7 +226,7 @@ ElementCase read_case(const std::string& file) {
     check_keys(t, file, path,
                {"normal_stress", "normal_control", "normal_stiffness", "path", "amplitude", "cycles", "velocity",
                 "one_sided", "frequency", "file", "file_stage", "params"});
-    const auto s = bind_params<StageSettings>(table_values(t, file, path, {"file", "params"}), "[[stage]]", tw);
+    const auto s = bind_params<StageSettings>(raw_values(t, file, path, {"file", "params"}), "[[stage]]", tw);
     ElementStage st;
     st.normal_stress = s.normal_stress;
     st.control = s.normal_control == 1 ? NormalControl::constant_stiffness : NormalControl::constant_stress;
@@ -281,7 +286,8 @@ ElementCase read_case(const std::string& file) {
       if (!pt) throw InputError(where_of(*pn, file, path + ".params") + ": params must be a table [stage.params]");
       RawValues merged = law_params;
       for (auto& [k, v] : raw_values(*pt, file, path + ".params")) merged[k] = v;
-      c.stage_models.push_back(make_joint_model(law, merged, effects, table_where(*pt, file, path + ".params")));
+      const std::string pw = table_where(*pt, file, path + ".params");
+      c.stage_models.push_back(located(file, pw, [&] { return make_joint_model(law, merged, effects, pw); }));
       st.model = c.stage_models.back().get();
     }
     c.stages.push_back(std::move(st));

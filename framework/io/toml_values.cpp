@@ -27,9 +27,13 @@ RawValue raw_value(const toml::node& node, const std::string& file, const std::s
   return v;
 }
 
-RawValues raw_values(const toml::table& table, const std::string& file, const std::string& table_path) {
+RawValues raw_values(const toml::table& table, const std::string& file, const std::string& table_path,
+                     std::initializer_list<std::string_view> skip) {
   RawValues out;
   for (const auto& [key, node] : table) {
+    bool skipped = false;
+    for (auto k : skip) skipped = skipped || key.str() == k;
+    if (skipped) continue;
     const std::string name(key.str());
     const std::string path = table_path.empty() ? name : table_path + "." + name;
     out.emplace(name, raw_value(node, file, path));

@@ -2,7 +2,9 @@
 // TOML (toml++) to RawValues: the bridge between case files and typed parameters. Every value
 // remembers where it was written ("file:line key table.key") so that the parameter checks in
 // framework/core/params.hpp can name the place of a mistake.
+#include <initializer_list>
 #include <string>
+#include <string_view>
 
 #include <toml++/toml.h>
 
@@ -18,7 +20,9 @@ std::string toml_where(const toml::node& node, const std::string& file);
 RawValue raw_value(const toml::node& node, const std::string& file, const std::string& key_path);
 
 // Every key of `table` as a RawValue with where = "file:line key table_path.key". Nested tables
-// and arrays are InputErrors: remove such keys (e.g. with table.erase) before calling.
-RawValues raw_values(const toml::table& table, const std::string& file, const std::string& table_path);
+// and arrays are InputErrors: name such keys in `skip`. Prefer `skip` to erasing keys from a
+// copy of the table: toml++ copies do not keep source positions (the lines would read 0).
+RawValues raw_values(const toml::table& table, const std::string& file, const std::string& table_path,
+                     std::initializer_list<std::string_view> skip = {});
 
 }  // namespace rockdem

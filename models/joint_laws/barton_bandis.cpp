@@ -106,11 +106,13 @@ void BartonBandis::Params::validate() const {
   if (normal_closure != 1) return;
   const Derived d = derive(*this);
   if (d.kni <= 0.0 || d.vm <= 0.0) {
-    throw InputError(
-        "joint law 'barton_bandis': normal_closure = \"bandis\" needs initial_normal_stiffness > 0 and "
-        "max_closure > 0, given or derived from jrc, jcs and ucs (Bandis et al. 1983: needs ucs > 0.5 jcs and "
-        "gives Kni = " + std::to_string(d.kni / 1e9) + " GPa/m, Vm = " + std::to_string(d.vm * 1e3) +
-        " mm here); give both explicitly");
+    const std::string derived =
+        ucs <= 0.0 ? std::string("ucs (sigma_c) is not given")
+                   : "Bandis et al. (1983) give Kni = " + std::to_string(d.kni / 1e9) + " GPa/m, Vm = " +
+                         std::to_string(d.vm * 1e3) + " mm here (they need ucs > 0.5 jcs)";
+    throw InputError("joint law 'barton_bandis': normal_closure = \"bandis\" needs initial_normal_stiffness > 0 "
+                     "and max_closure > 0, given or derived from jrc, jcs and ucs; " + derived +
+                     "; give ucs or both constants");
   }
 }
 
