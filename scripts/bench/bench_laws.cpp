@@ -1,0 +1,113 @@
+// Joint-law updates per second (Google Benchmark): one contact point cycling through a
+// +-10 mm path at 0.01 mm increments (the DEM situation: the engine gives du_n and du_s, the law
+// returns stresses), for each law, and for a law with two effects. The normal increment gives
+// back the previous increment's dilation, as a block free to move normally would, so the joint
+// stays near 3 MPa instead of locking up or opening.
+// Also the element driver's cost per increment (constant normal stress solved each increment).
+//   build-laws/scripts/bench/rockdem_bench_laws --benchmark_min_time=0.5
+#include <benchmark/benchmark.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "framework/mechanics/element_driver.hpp"
+#include "models/joint_laws/joint_law.hpp"
+
+namespace {
+
+using namespace rockdem;
+
+RawValues vals(std::initializer_list<std::pair<std::string, std::string>> kv) {
+  RawValues out;
+  for (const auto& [k, v] : kv) out[k] = RawValue{v, "bench"};
+  return out;
+}
+
+RawValues params_for(const std::string& law) {
+  if (law == "mohr_coulomb")
+    return vals({{"kn", "35.964 GPa/m"}, {"ks", "16.93 GPa/m"}, {"friction", "38 deg"}, {"dilation_angle", "2.4 deg"},
+                 {"dilation", "reversible"}});
+  if (law == "barton_bandis")
+    return vals({{"kn", "35.964 GPa/m"}, {"ks", "16.929 GPa/m"}, {"jrc", "7.1"}, {"jcs", "170.5 MPa"},
+                 {"residual_friction", "28.4 deg"}, {"lab_length", "0.2032 m"}, {"dilation", "reversible"}});
+  if (law == "continuously_yielding")
+    return vals({{"kn", "29.361 GPa/m"}, {"kn_min", "29.361 GPa/m"}, {"kn_max", "46.109 GPa/m"},
+                 {"kn_exponent", "0.6783"}, {"ks", "29.312 GPa/m"}, {"initial_friction", "39.3 deg"},
+                 {"friction", "33.5 deg"}, {"roughness", "0.0175 m"}, {"dilation", "reversible"}});
+  return vals({{"kn", "35.964 GPa/m"}, {"ks", "16.93 GPa/m"}, {"friction", "38 deg"}});  // coulomb_slip
+}
+
+std::unique_ptr<JointModel> make(const std::string& law, int effects) {
+  std::vector<EffectSpec> e;
+  for (int i = 0; i < effects; ++i) e.push_back(EffectSpec{"strength_reduction", vals({{"factor", "1.1"}}), "bench"});
+  return make_joint_model(law, params_for(law), e, "bench");
+}
+
+void law_updates(benchmark::State& state, const std::string& law, int effects) {
+  auto m = make(law, effects);
+  JointStateBlock s;
+  m->init(s);
+  JointResponse r;
+  JointKinematics k;
+  k.du_n = -3e6 / m->initial_kn();  // close to about 3 MPa once
+  m->update(s, k, r);
+  k.du_n = 0.0;
+  long i = 0;
+  double last_dilation = r.dilation;
+  for (auto _ : state) {
+    // 1000 increments forward, 2000 back, 1000 forward: a closed +-10 mm cycle.
+    const long phase = i % 4000;
+    k.du_s = (phase < 1000 || phase >= 3000) ? 1e-5 : -1e-5;
+    m->update(s, k, r);
+    k.du_n = r.dilation - last_dilation;
+    last_dilation = r.dilation;
+    benchmark::DoNotOptimize(r);
+    ++i;
+  }
+  if (r.open || r.sigma_n < 1e6 || r.sigma_n > 1e7) state.SkipWithError("the joint left the 1-10 MPa range");
+  state.SetItemsProcessed(state.iterations());
+}
+
+void driver_increments(benchmark::State& state, const std::string& law) {
+  auto m = make(law, 0);
+  ElementDriver d(*m);
+  ElementStage st;
+  st.normal_stress = 3e6;
+  d.begin_stage(st);
+  long i = 0;
+  for (auto _ : state) {
+    const long phase = i % 4000;
+    d.step(st, (phase < 1000 || phase >= 3000) ? 1e-5 : -1e-5, 0.0);
+    benchmark::DoNotOptimize(d.response());
+    ++i;
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+
+void full_cycle(benchmark::State& state, const std::string& law) {
+  auto m = make(law, 0);
+  for (auto _ : state) {
+    ElementDriver d(*m);
+    auto f = d.run({ElementStage{3e6, NormalControl::constant_stress, 0.0, ShearPath::cycles(0.02, 1, 4.2e-5), nullptr}});
+    benchmark::DoNotOptimize(f);
+  }
+}
+
+}  // namespace
+
+BENCHMARK_CAPTURE(law_updates, coulomb_slip, std::string("coulomb_slip"), 0);
+BENCHMARK_CAPTURE(law_updates, mohr_coulomb, std::string("mohr_coulomb"), 0);
+BENCHMARK_CAPTURE(law_updates, barton_bandis, std::string("barton_bandis"), 0);
+BENCHMARK_CAPTURE(law_updates, continuously_yielding, std::string("continuously_yielding"), 0);
+BENCHMARK_CAPTURE(law_updates, continuously_yielding_plus_2_effects, std::string("continuously_yielding"), 2);
+BENCHMARK_CAPTURE(law_updates, mohr_coulomb_plus_2_effects, std::string("mohr_coulomb"), 2);
+BENCHMARK_CAPTURE(driver_increments, mohr_coulomb_cnl, std::string("mohr_coulomb"));
+BENCHMARK_CAPTURE(driver_increments, barton_bandis_cnl, std::string("barton_bandis"));
+BENCHMARK_CAPTURE(driver_increments, continuously_yielding_cnl, std::string("continuously_yielding"));
+BENCHMARK_CAPTURE(full_cycle, mohr_coulomb_40mm_cycle, std::string("mohr_coulomb"))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(full_cycle, barton_bandis_40mm_cycle, std::string("barton_bandis"))->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(full_cycle, continuously_yielding_40mm_cycle, std::string("continuously_yielding"))
+    ->Unit(benchmark::kMillisecond);
+
+BENCHMARK_MAIN();
