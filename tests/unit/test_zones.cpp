@@ -133,7 +133,13 @@ TEST(Zones, StiffnessEstimateBoundsTheCriticalTimeStep) {
   Eigen::VectorXd minv_sqrt(2 * n);
   for (int i = 0; i < n; ++i) minv_sqrt[2 * i] = minv_sqrt[2 * i + 1] = 1.0 / std::sqrt(m.gp[i].mass);
   const Eigen::MatrixXd a = minv_sqrt.asDiagonal() * (0.5 * (k + k.transpose())) * minv_sqrt.asDiagonal();
-  const double w_max = std::sqrt(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(a).eigenvalues().maxCoeff());
+  const Eigen::VectorXd lam = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(a).eigenvalues();  // ascending
+  // A free block has exactly three zero-energy modes (two translations, one rotation): no
+  // spurious mechanisms in the constant-strain zones.
+  EXPECT_LT(std::abs(lam[0]), 1e-9 * lam[2 * n - 1]);
+  EXPECT_LT(std::abs(lam[2]), 1e-9 * lam[2 * n - 1]);
+  EXPECT_GT(lam[3], 1e-4 * lam[2 * n - 1]);
+  const double w_max = std::sqrt(lam[2 * n - 1]);
   const double dt_exact = 2.0 / w_max;
 
   zone_stiffness(m);
