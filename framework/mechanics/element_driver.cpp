@@ -117,7 +117,7 @@ ElementDriver::ElementDriver(const JointModel& model, ElementOptions options) : 
 void ElementDriver::reset() {
   model_.init(state_);
   r_ = JointResponse{};
-  time_ = dissipated_ = u_n_ = u_n_stage_ = cns_sigma0_ = cns_u_n0_ = last_du_n_ = 0.0;
+  time_ = dissipated_ = u_n_ = u_n_stage_ = cns_sigma0_ = cns_u_n0_ = last_du_n_ = last_slope_ = 0.0;
   steps_ = unconverged_ = 0;
   max_iter_used_ = 0;
 }
@@ -166,7 +166,9 @@ void ElementDriver::solve_normal(const ElementStage& stage, double du_s, double 
   };
   note(x, g);
   int it = 0;
-  double step = g / (std::max(rr.kn, 1.0) + K);
+  // The last increment's secant slope is the best first guess of dg/d(du_n) (kn alone misses
+  // the dilation coupling); the law's tangent kn otherwise.
+  double step = g / (last_slope_ > 0.0 ? last_slope_ : std::max(rr.kn, 1.0) + K);
   while (std::abs(best_g) > tol && it < opt_.max_iterations) {
     ++it;
     double xn = x + step;
@@ -177,6 +179,7 @@ void ElementDriver::solve_normal(const ElementStage& stage, double du_s, double 
     const double secant = -(gn - g) / (xn - x);
     if (std::isfinite(secant) && secant > 0.0) {
       step = gn / secant;
+      last_slope_ = secant;
     } else if (!(std::isfinite(lo) && std::isfinite(hi))) {
       step = 2.0 * (xn - x);  // flat: widen the search in the same direction
     } else {
@@ -204,9 +207,9 @@ const JointResponse& ElementDriver::begin_stage(const ElementStage& stage) {
   // Normal loading to the stage's normal stress without shear, under constant normal stress.
   ElementStage load = stage;
   load.control = NormalControl::constant_stress;
-  last_du_n_ = 0.0;
+  last_du_n_ = last_slope_ = 0.0;
   solve_normal(load, 0.0, 0.0);
-  last_du_n_ = 0.0;
+  last_du_n_ = last_slope_ = 0.0;
   u_n_stage_ = u_n_;
   cns_sigma0_ = r_.sigma_n;
   cns_u_n0_ = u_n_;

@@ -99,6 +99,7 @@ class ElementDriver {
   double u_n_stage_ = 0.0;  // at the start of the current stage (after normal loading)
   double cns_sigma0_ = 0.0, cns_u_n0_ = 0.0;
   double last_du_n_ = 0.0;
+  double last_slope_ = 0.0;  // secant dg/d(du_n) of the last solve (negated)
   long steps_ = 0, unconverged_ = 0;
   int max_iter_used_ = 0;
 };

@@ -120,23 +120,36 @@ double BartonBandis::initial_kn(const Params& p) {
   return p.normal_closure == 1 ? derive(p).kni : p.kn;
 }
 
-double BartonBandis::mobilised_roughness(const Params& p, const Derived& d, double delta, double sigma_n) {
+namespace {
+// i = JRCn log10(JCSn/sigma_n) [rad], 0 when sigma_n >= JCS, capped so that i + phi_r <= 70 deg.
+double roughness_i(const BartonBandis::Params& p, const BartonBandis::Derived& d, double sigma_n) {
+  const double i = sigma_n > 0.0 ? d.jrc_n * std::log10(d.jcs_n / sigma_n) * kDeg : kMaxAngle;
+  return std::clamp(i, 0.0, std::max(0.0, kMaxAngle - p.residual_friction));
+}
+// JRC_mob log10(JCS/sigma_n) from Barton's table, given i.
+double mobilised_from_i(const BartonBandis::Params& p, const BartonBandis::Derived& d, double delta, double i) {
   const double x = delta / d.delta_p;
-  const double phi_r = p.residual_friction;
-  if (x < kRatioX[1]) return -phi_r * (1.0 - x / kRatioX[1]);  // from -phi_r (tau = 0) to 0
+  if (x < kRatioX[1]) return -p.residual_friction * (1.0 - x / kRatioX[1]);  // -phi_r (tau = 0) to 0
   if (x >= kRatioX.back()) return 0.0;
-  double i = sigma_n > 0.0 ? d.jrc_n * std::log10(d.jcs_n / sigma_n) * kDeg : kMaxAngle;
-  i = std::clamp(i, 0.0, std::max(0.0, kMaxAngle - phi_r));
   std::size_t j = 1;
   while (x >= kRatioX[j + 1]) ++j;
   const double t = (x - kRatioX[j]) / (kRatioX[j + 1] - kRatioX[j]);
   return i * (kRatioJrc[j] + t * (kRatioJrc[j + 1] - kRatioJrc[j]));
 }
+double strength_from_i(const BartonBandis::Params& p, const BartonBandis::Derived& d, double delta, double sigma_n,
+                       double i) {
+  if (sigma_n <= 0.0) return 0.0;
+  const double angle = std::clamp(p.residual_friction + mobilised_from_i(p, d, delta, i), 0.0, kMaxAngle);
+  return sigma_n * std::tan(angle);
+}
+}  // namespace
+
+double BartonBandis::mobilised_roughness(const Params& p, const Derived& d, double delta, double sigma_n) {
+  return mobilised_from_i(p, d, delta, roughness_i(p, d, sigma_n));
+}
 
 double BartonBandis::strength(const Params& p, const Derived& d, double delta, double sigma_n) {
-  if (sigma_n <= 0.0) return 0.0;
-  const double angle = std::clamp(p.residual_friction + mobilised_roughness(p, d, delta, sigma_n), 0.0, kMaxAngle);
-  return sigma_n * std::tan(angle);
+  return strength_from_i(p, d, delta, sigma_n, roughness_i(p, d, sigma_n));
 }
 
 void BartonBandis::init(const Params&, State& s) { s = State{}; }
@@ -215,11 +228,12 @@ void BartonBandis::update(const Params& p, State& s, const JointKinematics& k, J
   double tau = tau_tr, travel = 0.0, ddil = 0.0, dus_p = 0.0;
   bool slipping = false;
   auto step = [&](double sigma) {
-    const double s_old = std::max(0.0, strength(p, d, s.delta, sigma) * s_factor + d_strength);
+    const double i = roughness_i(p, d, sigma);  // one log10 per evaluation
+    const double s_old = std::max(0.0, strength_from_i(p, d, s.delta, sigma, i) * s_factor + d_strength);
     slipping = std::abs(tau_tr) > s_old;
     if (slipping) {
       travel = (std::abs(tau_tr) - s_old) / p.ks;
-      const double s_new = std::max(0.0, strength(p, d, s.delta + travel, sigma) * s_factor + d_strength);
+      const double s_new = std::max(0.0, strength_from_i(p, d, s.delta + travel, sigma, i) * s_factor + d_strength);
       tau = std::copysign(std::min(std::abs(tau_tr), s_new), tau_tr);
     } else {
       travel = 0.0;
@@ -229,7 +243,11 @@ void BartonBandis::update(const Params& p, State& s, const JointKinematics& k, J
     ddil = rate * travel;
     return cl.sigma(v_tr + ddil);
   };
-  law_support::consistent_sigma(sigma_tr, step);
+  if (rate == 0.0) {
+    step(sigma_tr);  // no dilation: the trial stress is final
+  } else {
+    law_support::consistent_sigma(sigma_tr, s.sigma_n > 0.0 ? s.sigma_n : sigma_tr, step);
+  }
 
   // No tensile strength: open if the closure after the increment's dilation is negative (the
   // shear increment then acted on no contact and is discarded).

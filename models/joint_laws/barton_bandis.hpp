@@ -6,6 +6,10 @@ namespace rockdem {
 
 struct BartonBandis {
   static constexpr const char* name = "barton_bandis";
+  // Values derived from Params (scale corrections, eq. 3-6, Bandis closure constants).
+  struct Derived {
+    double jrc_n, jcs_n, delta_p, kni, vm;
+  };
   struct Params {
     double kn;                   // linear normal stiffness [Pa/m]
     double ks;                   // shear stiffness for unloading/reloading [Pa/m]
@@ -33,10 +37,6 @@ struct BartonBandis {
     double plastic_slip;  // accumulated |plastic shear displacement| [m]
     double dilation;      // accumulated shear dilation [m]
     bool ucs_reached;
-  };
-  // Values derived once from Params (scale corrections, eq. 3-6, Bandis closure constants).
-  struct Derived {
-    double jrc_n, jcs_n, delta_p, kni, vm;
   };
   static Derived derive(const Params& p);
   // Mobilised roughness angle JRC_mob*log10(JCS/sigma_n) [rad] at travel delta (Barton's table).

@@ -65,11 +65,13 @@ inline double dilation_sign(int option, double u_s, double du_s, double u_cs, bo
 // h(sigma) = step(sigma) - sigma, which is linear while the joint slips at a constant rate (one
 // secant step then solves it, even where plain fixed-point iteration would diverge, i.e. when
 // kn tan(psi) tan(phi) > ks). If it fails, the explicit (trial-stress) update is kept.
+// `guess` starts the iteration (the normal stress before the increment is a good one: under a
+// constant normal load it is the answer); the result does not depend on it beyond the tolerance.
 // Contract: when this returns, the last call made was step(returned value). No allocation.
 template <class Step>
-double consistent_sigma(double sigma_trial, Step&& step) {
+double consistent_sigma(double sigma_trial, double guess, Step&& step) {
   const double tol = 1e-12 * (std::abs(sigma_trial) + 1.0);
-  double s0 = sigma_trial;
+  double s0 = std::isfinite(guess) ? guess : sigma_trial;
   double h0 = step(s0) - s0;
   if (!(std::abs(h0) > tol)) return s0;
   double s1 = s0 + h0;
