@@ -8,6 +8,7 @@
 //                                  normal_control, normal_stiffness, path = cycles | sinusoid |
 //                                  file and its keys; optional [stage.params] overrides
 // Every mistake is an InputError naming file:line and key, what is wrong and what is valid.
+#include <charconv>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -112,6 +113,13 @@ void check_keys(const toml::table& t, const std::string& file, const std::string
 
 std::string table_where(const toml::table& t, const std::string& file, const std::string& path) {
   return toml_where(t, file) + " [" + path + "]";
+}
+
+std::string shortest(double v) {
+  char buf[64];
+  auto [end, ec] = std::to_chars(buf, buf + sizeof(buf), v);
+  (void)ec;
+  return std::string(buf, end);
 }
 
 // Cross-parameter checks (a law's validate()) do not know where the table was written; add it.
@@ -313,7 +321,7 @@ const CommandRegistrar reg{Command{
         ElementDriver driver(*c.model, opt);
         MeasurementFile mf;
         mf.metadata = {{"specimen", c.specimen},
-                       {"joint_length_m", std::to_string(c.settings.joint_length)},
+                       {"joint_length_m", shortest(c.settings.joint_length)},
                        {"source", "rockdem"},
                        {"rockdem_version", ROCKDEM_VERSION},
                        {"case", *file},
