@@ -43,31 +43,37 @@ ShearPath ShearPath::table(std::vector<double> time_s, std::vector<double> disp_
 
 namespace {
 
-// Calls fn(du, dt) for every increment of `path` starting from offset u0 (no allocation). The
-// path starts where the joint is: if that is not the path's first point, a straight move to it
-// comes first.
+// Calls fn(du, dt, t) for every increment of `path` starting from offset u0, t being the time
+// since the stage start at the end of the increment, computed from the path (not summed), so
+// that segment ends fall exactly on the path's times. No allocation. The path starts where the
+// joint is: if that is not the path's first point, a straight move to it comes first.
 template <class Fn>
 void for_each_increment(const ShearPath& path, double u0, double max_step, Fn&& fn) {
   double u = u0;
+  double t = 0.0;  // stage time at the start of the current segment
   auto move_to = [&](double target, double duration_or_velocity, bool is_velocity) {
     const double dist = std::abs(target - u);
+    const double duration = is_velocity ? (duration_or_velocity > 0.0 ? dist / duration_or_velocity : 0.0)
+                                        : duration_or_velocity;
     if (dist == 0.0) {
-      if (!is_velocity && duration_or_velocity > 0.0) fn(0.0, duration_or_velocity);  // a pause
+      if (duration > 0.0) fn(0.0, duration, t + duration);  // a pause
+      t += duration;
       return;
     }
     const double nd = std::ceil(dist / max_step * (1.0 - 1e-12));
     const long n = std::max(1L, static_cast<long>(nd));
-    const double start = u;
-    double prev = start;
+    const double start = u, t_start = t;
+    double prev = start, t_prev = t_start;
     for (long i = 1; i <= n; ++i) {
-      const double pos = i == n ? target : start + (target - start) * static_cast<double>(i) / static_cast<double>(n);
-      const double du = pos - prev;
-      const double dt = is_velocity ? (duration_or_velocity > 0.0 ? std::abs(du) / duration_or_velocity : 0.0)
-                                    : duration_or_velocity / static_cast<double>(n);
-      fn(du, dt);
+      const double f = static_cast<double>(i) / static_cast<double>(n);
+      const double pos = i == n ? target : start + (target - start) * f;
+      const double ti = i == n ? t_start + duration : t_start + duration * f;
+      fn(pos - prev, ti - t_prev, ti);
       prev = pos;
+      t_prev = ti;
     }
     u = target;
+    t = t_start + duration;
   };
   switch (path.kind) {
     case ShearPath::Kind::cycles:
@@ -87,20 +93,24 @@ void for_each_increment(const ShearPath& path, double u0, double max_step, Fn&& 
       const double duration = path.count / path.frequency;
       const double travel = 4.0 * path.amplitude * path.count;  // path length of the sinusoid
       const long n = std::max(1L, static_cast<long>(std::ceil(travel * (std::numbers::pi / 2) / max_step)));
-      const double dt = duration / static_cast<double>(n);
-      double prev = 0.0;
+      double prev = 0.0, t_prev = t;
       for (long i = 1; i <= n; ++i) {
+        const double ti = t + duration * static_cast<double>(i) / static_cast<double>(n);
         // The last point is exactly back at the mated position (sin of a whole number of periods).
-        const double pos = i == n ? 0.0 : path.amplitude * std::sin(w * dt * static_cast<double>(i));
-        fn(pos - prev, dt);
+        const double pos = i == n ? 0.0 : path.amplitude * std::sin(w * (ti - t));
+        fn(pos - prev, ti - t_prev, ti);
         prev = pos;
+        t_prev = ti;
       }
+      t += duration;
       break;
     }
     case ShearPath::Kind::table:
       move_to(path.disp.front(), 0.0, false);
+      t = path.time.front();
       for (std::size_t j = 1; j < path.disp.size(); ++j) {
         move_to(path.disp[j], path.time[j] - path.time[j - 1], false);
+        t = path.time[j];  // exactly the table's time at each point
       }
       break;
   }
@@ -124,7 +134,7 @@ void ElementDriver::reset() {
 
 long ElementDriver::count_increments(const ShearPath& path) const {
   long n = 0;
-  for_each_increment(path, r_.u_s, opt_.max_step, [&](double, double) { ++n; });
+  for_each_increment(path, r_.u_s, opt_.max_step, [&](double, double, double) { ++n; });
   return n;
 }
 
@@ -241,9 +251,11 @@ void ElementDriver::run(const std::vector<ElementStage>& stages, MeasurementFile
     begin_stage(st);
     append_row(out, number);
     const long n = count_increments(st.path);
+    const double t0 = time_;
     long i = 0;
-    for_each_increment(st.path, r_.u_s, opt_.max_step, [&](double du, double dt) {
+    for_each_increment(st.path, r_.u_s, opt_.max_step, [&](double du, double dt, double t) {
       step(st, du, dt);
+      time_ = t0 + t;  // the path's time, free of the rounding of summed increments
       ++i;
       if (i % opt_.output_every == 0 || i == n) append_row(out, number);
     });

@@ -29,6 +29,39 @@ done
 # Default output name: <case stem>.csv in the current folder.
 (cd "$tmp" && "$bin" element --quiet "$src/cases/element/report_fig3-5_barton_bandis.toml") &&
   [ -s "$tmp/report_fig3-5_barton_bandis.csv" ] || { echo "FAIL default output name"; fail=1; }
+# path = "file": replay the shear displacement history of stage 2 of a measurement file.
+cat >"$tmp/record.csv" <<CSV
+# specimen: replay
+time_s,stage,normal_stress_MPa,shear_disp_mm,shear_stress_MPa,normal_disp_mm
+0,1,1,0,0,0
+5,1,1,1,0,0
+10,2,2,0,0,0
+20,2,2,3,0,0
+30,2,2,-2,0,0
+CSV
+cat >"$tmp/replay.toml" <<CASE
+[joint]
+law = "mohr_coulomb"
+[joint.params]
+kn = "36 GPa/m"
+ks = "17 GPa/m"
+friction = "38 deg"
+[[stage]]
+normal_stress = "2 MPa"
+path = "file"
+file = "record.csv"
+file_stage = 2
+CASE
+if out=$("$bin" element "$tmp/replay.toml" --out "$tmp/replay.csv" 2>&1); then
+  last=$(tail -n 1 "$tmp/replay.csv")
+  case "$last" in
+    20,1,*,-2,*) echo "ok   replay: $last" ;;
+    *) echo "FAIL replay: last row '$last' should be at t = 20 s (stage times from 0), u = -2 mm"; fail=1 ;;
+  esac
+else
+  echo "FAIL replay: $out"
+  fail=1
+fi
 out=$("$bin" laws)
 for n in mohr_coulomb barton_bandis continuously_yielding coulomb_slip strength_reduction; do
   grep -qF "$n" <<<"$out" || { echo "FAIL laws lacks $n"; fail=1; }
