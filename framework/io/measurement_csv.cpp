@@ -48,6 +48,17 @@ void append_number(std::string& out, double v) {
 }  // namespace
 
 void write_measurement_csv(const std::string& path, const MeasurementFile& f) {
+  // A row with fewer values than the header would make a file the reader rejects: refuse early.
+  if (!f.extra_columns.empty() && f.extra.size() != f.rows.size()) {
+    throw InputError(path + ": " + std::to_string(f.rows.size()) + " rows but " + std::to_string(f.extra.size()) +
+                     " rows of extra-column values; nothing written");
+  }
+  for (std::size_t i = 0; i < f.extra.size() && !f.extra_columns.empty(); ++i) {
+    if (f.extra[i].size() != f.extra_columns.size()) {
+      throw InputError(path + ": row " + std::to_string(i + 1) + " has " + std::to_string(f.extra[i].size()) +
+                       " extra values for " + std::to_string(f.extra_columns.size()) + " extra columns; nothing written");
+    }
+  }
   std::string out;
   out.reserve(64 + f.rows.size() * (64 + 16 * f.extra_columns.size()));
   for (const auto& [k, v] : f.metadata) {

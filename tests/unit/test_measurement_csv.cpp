@@ -127,3 +127,19 @@ TEST(MeasurementCsv, MissingFileIsAnInputErrorNamingIt) {
     EXPECT_NE(std::string(e.what()).find(p), std::string::npos);
   }
 }
+
+TEST(MeasurementCsv, WriterRefusesRowsThatDoNotMatchTheHeader) {
+  MeasurementFile f;
+  f.rows = {{0.0, 1, 3.0, 0.0, 0.0, 0.0}, {1.0, 1, 3.0, 0.1, 0.2, 0.0}};
+  f.extra_columns = {"a", "b"};
+  f.extra = {{1.0, 2.0}};
+  const std::string p = tmp_path("mismatch.csv");
+  EXPECT_THROW(write_measurement_csv(p, f), InputError);
+  f.extra = {{1.0, 2.0}, {3.0}};
+  EXPECT_THROW(write_measurement_csv(p, f), InputError);
+  EXPECT_FALSE(std::filesystem::exists(p));
+  f.extra = {{1.0, 2.0}, {3.0, 4.0}};
+  write_measurement_csv(p, f);
+  EXPECT_EQ(read_measurement_csv(p).extra[1][1], 4.0);
+  std::filesystem::remove(p);
+}
