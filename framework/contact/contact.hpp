@@ -42,6 +42,8 @@ struct ContactKeyHash {
 struct Contact {
   ContactKey key;
   int point = 0;        // gridpoint index of the contact point
+  int point_loop = 0;   // position of that gridpoint in its block's boundary loop
+  bool face_mode = false;  // flat point paired with a facing edge (see detection.cpp)
   int other = 0;        // block index of the other block
   int edge = 0;         // position in the other block's boundary loop of the edge's first point
   double s = 0.0;       // parameter along that edge (0..1) of the projection

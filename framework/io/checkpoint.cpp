@@ -213,6 +213,8 @@ void write_checkpoint(const Model& m, const std::string& path, const CheckpointS
       h5::write_dataset(grp, "key", keys, n, 3, f);
       h5::write_dataset(grp, "point", column<i32>(c, [](auto& q) { return q.point; }), n, 1, f);
       h5::write_dataset(grp, "other", column<i32>(c, [](auto& q) { return q.other; }), n, 1, f);
+      h5::write_dataset(grp, "point_loop", column<i32>(c, [](auto& q) { return q.point_loop; }), n, 1, f);
+      h5::write_dataset(grp, "face_mode", column<u8>(c, [](auto& q) { return q.face_mode; }), n, 1, f);
       h5::write_dataset(grp, "edge", column<i32>(c, [](auto& q) { return q.edge; }), n, 1, f);
       h5::write_dataset(grp, "s", column<double>(c, [](auto& q) { return q.s; }), n, 1, f);
       h5::write_dataset(grp, "normal", vec2_column(c, [](auto& q) -> const Vec2& { return q.normal; }), n, 2, f);
@@ -372,6 +374,7 @@ CheckpointScalars read_impl(Model& m, const std::string& path) {
     if (names_file != names_now) mismatch("the joint models are named differently");
   }
   const auto c_key = cg.get<i32>("key", nc, 3), c_point = cg.get<i32>("point", nc), c_other = cg.get<i32>("other", nc),
+             c_loop = cg.get<i32>("point_loop", nc),
              c_edge = cg.get<i32>("edge", nc), c_joint = cg.get<i32>("joint", nc);
   const auto c_s = cg.get<double>("s", nc), c_normal = cg.get<double>("normal", nc, 2), c_len = cg.get<double>("length", nc),
              c_overlap = cg.get<double>("overlap", nc), c_gap = cg.get<double>("pretouch_gap", nc),
@@ -379,6 +382,7 @@ CheckpointScalars read_impl(Model& m, const std::string& path) {
              c_tau = cg.get<double>("tau", nc), c_kn = cg.get<double>("kn", nc), c_ks = cg.get<double>("ks", nc),
              c_us = cg.get<double>("u_s", nc), c_un = cg.get<double>("u_n", nc), c_dil = cg.get<double>("dilation", nc),
              c_diss = cg.get<double>("dissipated", nc);
+  const auto c_face = cg.get<u8>("face_mode", nc);
   const auto c_fresh = cg.get<u8>("fresh", nc), c_slip = cg.get<u8>("slipping", nc), c_open = cg.get<u8>("open", nc);
   const auto c_state = cg.get<u8>("state", nc, kJointStateBytes);
   std::vector<Contact> contacts(nc);
@@ -387,6 +391,8 @@ CheckpointScalars read_impl(Model& m, const std::string& path) {
     c.key = {c_key[3 * i], c_key[3 * i + 1], c_key[3 * i + 2]};
     c.point = c_point[i];
     c.other = c_other[i];
+    c.point_loop = c_loop[i];
+    c.face_mode = c_face[i] != 0;
     c.edge = c_edge[i];
     c.joint = c_joint[i];
     if (c.point < 0 || static_cast<std::size_t>(c.point) >= ng || c.other < 0 || static_cast<std::size_t>(c.other) >= nb ||

@@ -61,7 +61,7 @@ TEST(Checkpoint, StateStructsHaveTheFieldsTheCheckpointKnows) {
   // (write and read), fill_io_test_state and the comparisons below, then the count here.
   EXPECT_EQ((field_count<GridPoint>()), 11u);
   EXPECT_EQ((field_count<Zone>()), 7u);
-  EXPECT_EQ((field_count<Contact>()), 14u);
+  EXPECT_EQ((field_count<Contact>()), 16u);
   EXPECT_EQ((field_count<JointResponse>()), 10u);
   EXPECT_EQ((field_count<ContactKey>()), 3u);
 }
@@ -140,6 +140,8 @@ TEST(Checkpoint, RoundTripIsBitForBit) {
     EXPECT_EQ(p.key, q.key) << i;
     EXPECT_EQ(p.point, q.point) << i;
     EXPECT_EQ(p.other, q.other) << i;
+    EXPECT_EQ(p.point_loop, q.point_loop) << i;
+    EXPECT_EQ(p.face_mode, q.face_mode) << i;
     EXPECT_EQ(p.edge, q.edge) << i;
     EXPECT_TRUE(same_bits(p.s, q.s)) << i;
     EXPECT_TRUE(same_bits(p.normal, q.normal)) << i;

@@ -1,0 +1,21 @@
+#pragma once
+#include <filesystem>
+
+#include "framework/io/case.hpp"
+#include "framework/io/history.hpp"
+#include "framework/io/measurement_csv.hpp"
+
+namespace rockdem {
+
+struct RunResult {
+  History history;           // every sampled series (also in <out>/history.h5)
+  MeasurementFile lab;       // direct-shear cases: the joint test record
+  std::filesystem::path lab_csv;
+};
+
+// Run all stages of `c`, writing outputs into `out`. Throws InputError for problems found while
+// running (e.g. no joint model for two blocks that touch) and InstabilityError after writing the
+// last good state.
+RunResult run_case(Case& c, const std::filesystem::path& out, bool quiet);
+
+}  // namespace rockdem

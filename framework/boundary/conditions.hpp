@@ -1,0 +1,99 @@
+#pragma once
+// Boundary conditions. Each acts on a set of gridpoints (a block face) or on a rigid block, may be
+// limited to some stages, and is applied by the engine at fixed points of each cycle:
+//   setup()     once per stage: flags fixed/prescribed degrees of freedom;
+//   forces()    adds external forces (tractions, dashpots) to GridPoint::f;
+//   velocities() overwrites prescribed velocities after the equation of motion.
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "framework/boundary/time_function.hpp"
+#include "framework/mechanics/model.hpp"
+
+namespace rockdem {
+
+// Boundary gridpoints of a block on the face(s) whose outward normal lies within 10 degrees of
+// `direction`, and the boundary edges (loop positions) they belong to.
+struct FaceSelection {
+  int block = 0;
+  std::vector<int> points;  // gridpoint indices
+  std::vector<int> edges;   // positions i in the block's boundary loop (edge i -> i+1)
+};
+FaceSelection select_face(const Model& m, int block, const Vec2& direction);
+// Face names: "top" (+y), "bottom" (-y), "left" (-x), "right" (+x); "all" selects every
+// boundary point. Throws InputError listing the valid names.
+Vec2 face_direction(const std::string& name, const std::string& where);
+
+class BoundaryCondition {
+ public:
+  virtual ~BoundaryCondition() = default;
+  virtual std::string describe() const = 0;
+  virtual void setup(Model&) {}
+  virtual void forces(Model&, double /*stage_time*/) {}
+  virtual void velocities(Model&, double /*stage_time*/) {}
+  // Stages this condition is active in (empty: all).
+  std::vector<std::string> stages;
+  bool active_in(const std::string& stage) const;
+};
+
+// Gridpoints held in x and/or y (or a whole rigid block held in place).
+class FixedCondition final : public BoundaryCondition {
+ public:
+  FixedCondition(FaceSelection sel, bool fix_x, bool fix_y, bool whole_rigid_block);
+  std::string describe() const override;
+  void setup(Model&) override;
+  void velocities(Model&, double) override;
+
+ private:
+  FaceSelection sel_;
+  bool fx_, fy_, rigid_;
+};
+
+// Prescribed velocity components (functions of stage time) on gridpoints or a rigid block.
+// Components left empty stay free.
+class VelocityCondition final : public BoundaryCondition {
+ public:
+  VelocityCondition(FaceSelection sel, bool whole_rigid_block, std::optional<TimeFunction> vx,
+                    std::optional<TimeFunction> vy, std::optional<TimeFunction> spin);
+  std::string describe() const override;
+  void setup(Model&) override;
+  void velocities(Model&, double t) override;
+  // Longest finite duration of its velocity histories (0 if none is finite).
+  double duration() const;
+
+ private:
+  FaceSelection sel_;
+  bool rigid_;
+  std::optional<TimeFunction> vx_, vy_, spin_;
+};
+
+// Traction on a face: normal stress (compression positive, pushing into the block) and shear
+// stress (positive along the face tangent, counter-clockwise around the block), as functions of
+// time, integrated over the current edge lengths.
+class TractionCondition final : public BoundaryCondition {
+ public:
+  TractionCondition(FaceSelection sel, TimeFunction normal, TimeFunction shear);
+  std::string describe() const override;
+  void forces(Model&, double t) override;
+
+ private:
+  FaceSelection sel_;
+  TimeFunction normal_, shear_;
+};
+
+// Viscous (quiet) boundary: normal and shear dashpots rho*Cp and rho*Cs per unit length
+// (Lysmer & Kuhlemeyer 1969), absorbing outgoing waves.
+class QuietCondition final : public BoundaryCondition {
+ public:
+  QuietCondition(FaceSelection sel, double rho, double cp, double cs);
+  std::string describe() const override;
+  void forces(Model&, double t) override;
+
+ private:
+  FaceSelection sel_;
+  double rho_, cp_, cs_;
+};
+
+}  // namespace rockdem

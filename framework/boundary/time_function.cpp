@@ -1,0 +1,217 @@
+#include "framework/boundary/time_function.hpp"
+
+#include <muParser.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <numbers>
+#include <sstream>
+
+#include "framework/core/error.hpp"
+
+namespace rockdem {
+
+struct TimeFunction::Expr {
+  mu::Parser parser;
+  double t = 0.0;
+};
+
+TimeFunction TimeFunction::constant(double v) {
+  TimeFunction f;
+  f.kind_ = Kind::constant;
+  f.a_ = v;
+  return f;
+}
+
+TimeFunction TimeFunction::table(std::vector<double> t, std::vector<double> v, double value_after,
+                                 std::string origin) {
+  if (t.size() != v.size() || t.empty()) throw InputError(origin + ": a table needs at least one row of (time, value)");
+  for (std::size_t i = 1; i < t.size(); ++i)
+    if (!(t[i] >= t[i - 1]))
+      throw InputError(origin + ": time goes backwards at row " + std::to_string(i + 1) + " (" +
+                       std::to_string(t[i - 1]) + " then " + std::to_string(t[i]) + ")");
+  TimeFunction f;
+  f.kind_ = Kind::table;
+  f.t_ = std::move(t);
+  f.v_ = std::move(v);
+  f.b_ = value_after;
+  f.text_ = origin;
+  f.cum_.assign(f.t_.size(), 0.0);
+  for (std::size_t i = 1; i < f.t_.size(); ++i)
+    f.cum_[i] = f.cum_[i - 1] + 0.5 * (f.v_[i] + f.v_[i - 1]) * (f.t_[i] - f.t_[i - 1]);
+  return f;
+}
+
+TimeFunction TimeFunction::from_file(const std::string& path, double time_scale, double value_scale,
+                                     bool derivative) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path + ": cannot open the time-history file (does it exist?)");
+  std::vector<double> t, v;
+  std::string line;
+  int ln = 0;
+  while (std::getline(in, line)) {
+    ++ln;
+    const auto hash = line.find('#');
+    if (hash != std::string::npos) line.resize(hash);
+    std::replace(line.begin(), line.end(), ',', ' ');
+    std::istringstream ls(line);
+    double a, b;
+    if (!(ls >> a)) continue;  // blank or comment line
+    if (!(ls >> b) || !std::isfinite(a) || !std::isfinite(b))
+      throw InputError(path + ":" + std::to_string(ln) + ": expected two numbers (time, value)");
+    t.push_back(a * time_scale);
+    v.push_back(b * value_scale);
+  }
+  if (t.size() < 2) throw InputError(path + ": a time history needs at least two rows");
+  if (!derivative) return table(std::move(t), std::move(v), v.back(), path);
+  // Displacement history -> velocity: piecewise constant slope, sampled at segment midpoints so
+  // that the integral reproduces the displacements at the table's times exactly.
+  std::vector<double> tv, vv;
+  for (std::size_t i = 1; i < t.size(); ++i) {
+    const double dt = t[i] - t[i - 1];
+    if (!(dt > 0.0)) throw InputError(path + ": time must increase strictly for a displacement history (row " + std::to_string(i + 1) + ")");
+    const double vel = (v[i] - v[i - 1]) / dt;
+    tv.push_back(t[i - 1]);
+    vv.push_back(vel);
+    tv.push_back(t[i]);
+    vv.push_back(vel);
+  }
+  auto f = table(std::move(tv), std::move(vv), 0.0, path);
+  f.a_ = v.front();  // displacement at t = 0 is added by integral()
+  return f;
+}
+
+TimeFunction TimeFunction::expression(const std::string& expr) {
+  TimeFunction f;
+  f.kind_ = Kind::expression;
+  f.text_ = expr;
+  f.expr_ = std::make_shared<Expr>();
+  try {
+    f.expr_->parser.DefineVar("t", &f.expr_->t);
+    f.expr_->parser.DefineConst("pi", std::numbers::pi);
+    f.expr_->parser.DefineConst("g", 9.80665);
+    f.expr_->parser.SetExpr(expr);
+    f.expr_->parser.Eval();
+  } catch (const mu::Parser::exception_type& e) {
+    throw InputError("expression '" + expr + "': " + e.GetMsg() +
+                     " (variables: t [s]; constants: pi, g; functions: sin, cos, exp, abs, ...)");
+  }
+  return f;
+}
+
+TimeFunction TimeFunction::cycles(double amplitude, double speed, int number, bool one_sided) {
+  TimeFunction f;
+  f.kind_ = Kind::cycles;
+  f.a_ = amplitude;
+  f.b_ = speed;
+  f.n_ = number;
+  f.one_sided_ = one_sided;
+  return f;
+}
+
+TimeFunction TimeFunction::sine(double amplitude, double frequency, double number) {
+  TimeFunction f;
+  f.kind_ = Kind::sine;
+  f.a_ = amplitude;
+  f.b_ = frequency;
+  f.c_ = number;
+  return f;
+}
+
+double TimeFunction::duration() const {
+  switch (kind_) {
+    case Kind::cycles: return (one_sided_ ? 2.0 : 4.0) * a_ / b_ * n_;
+    case Kind::sine: return c_ / b_;
+    case Kind::table: return t_.back();
+    default: return std::numeric_limits<double>::infinity();
+  }
+}
+
+namespace {
+// Triangular cycle: position within one cycle of period T made of legs of duration A/V.
+double cycle_disp(double t, double a, double v, bool one_sided) {
+  const double leg = a / v;
+  const double period = (one_sided ? 2.0 : 4.0) * leg;
+  const double tau = std::fmod(t, period);
+  const double x = tau / leg;  // legs elapsed
+  if (x < 1.0) return a * x;
+  if (x < 2.0) return a * (2.0 - x);
+  if (x < 3.0) return -a * (x - 2.0);
+  return -a * (4.0 - x);
+}
+double cycle_vel(double t, double a, double v, bool one_sided) {
+  const double leg = a / v;
+  const double period = (one_sided ? 2.0 : 4.0) * leg;
+  const double x = std::fmod(t, period) / leg;
+  if (x < 1.0) return v;
+  if (x < 3.0) return -v;
+  return v;
+}
+}  // namespace
+
+double TimeFunction::operator()(double t) const {
+  switch (kind_) {
+    case Kind::constant: return a_;
+    case Kind::table: {
+      if (t <= t_.front()) return v_.front();
+      if (t >= t_.back()) return b_;
+      const auto it = std::upper_bound(t_.begin(), t_.end(), t);
+      const std::size_t i = static_cast<std::size_t>(it - t_.begin());
+      const double w = (t - t_[i - 1]) / (t_[i] - t_[i - 1]);
+      return v_[i - 1] + w * (v_[i] - v_[i - 1]);
+    }
+    case Kind::expression:
+      expr_->t = t;
+      return expr_->parser.Eval();
+    case Kind::cycles:
+      if (t < 0.0 || t >= duration()) return 0.0;
+      return cycle_vel(t, a_, b_, one_sided_);
+    case Kind::sine:
+      if (t < 0.0 || t >= duration()) return 0.0;
+      return a_ * 2.0 * std::numbers::pi * b_ * std::cos(2.0 * std::numbers::pi * b_ * t);
+  }
+  return 0.0;
+}
+
+double TimeFunction::integral(double t) const {
+  switch (kind_) {
+    case Kind::constant: return a_ * t;
+    case Kind::table: {
+      if (t <= t_.front()) return a_ + v_.front() * (t - t_.front()) * (t < t_.front() ? 0.0 : 1.0);
+      if (t >= t_.back()) return a_ + cum_.back() + b_ * (t - t_.back());
+      const auto it = std::upper_bound(t_.begin(), t_.end(), t);
+      const std::size_t i = static_cast<std::size_t>(it - t_.begin());
+      const double vt = (*this)(t);
+      return a_ + cum_[i - 1] + 0.5 * (v_[i - 1] + vt) * (t - t_[i - 1]);
+    }
+    case Kind::expression: {
+      const int n = 10000;
+      double s = 0.0;
+      const double h = t / n;
+      for (int i = 0; i < n; ++i) s += 0.5 * h * ((*this)(i * h) + (*this)((i + 1) * h));
+      return s;
+    }
+    case Kind::cycles:
+      if (t >= duration()) return 0.0;
+      return t <= 0.0 ? 0.0 : cycle_disp(t, a_, b_, one_sided_);
+    case Kind::sine:
+      return a_ * std::sin(2.0 * std::numbers::pi * b_ * std::clamp(t, 0.0, duration()));
+  }
+  return 0.0;
+}
+
+std::string TimeFunction::describe() const {
+  std::ostringstream os;
+  switch (kind_) {
+    case Kind::constant: os << "constant " << a_; break;
+    case Kind::table: os << "table from " << text_ << " (" << t_.size() << " rows)"; break;
+    case Kind::expression: os << "expression '" << text_ << "'"; break;
+    case Kind::cycles: os << n_ << (one_sided_ ? " one-sided" : "") << " cycles of amplitude " << a_ << " m at " << b_ << " m/s"; break;
+    case Kind::sine: os << "sine of amplitude " << a_ << " m, " << b_ << " Hz, " << c_ << " cycles"; break;
+  }
+  return os.str();
+}
+
+}  // namespace rockdem

@@ -1,0 +1,351 @@
+#include "framework/mechanics/engine.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <sstream>
+
+#include "framework/core/error.hpp"
+#include "framework/mechanics/zones.hpp"
+#include "models/rock/rock_material.hpp"
+
+namespace rockdem {
+
+Damping Damping::rayleigh(double xi, double f) {
+  Damping d;
+  d.kind = Kind::rayleigh;
+  const double w = 2.0 * std::numbers::pi * f;
+  d.alpha = xi * w;
+  d.beta = xi / w;
+  return d;
+}
+
+Engine::Engine(Model& m, EngineSettings s) : m_(m), s_(s) {}
+
+void Engine::add_condition(std::unique_ptr<BoundaryCondition> bc) { bcs_.push_back(std::move(bc)); }
+
+void Engine::begin_stage(const std::string& name, const Damping& d) {
+  stage_ = name;
+  stage_time_ = 0.0;
+  damping_ = d;
+  for (auto& g : m_.gp) {
+    g.fixed_x = g.fixed_y = false;
+  }
+  for (auto& b : m_.blocks) b.fixed = b.prescribed = false;
+  active_.clear();
+  for (auto& bc : bcs_)
+    if (bc->active_in(name)) {
+      active_.push_back(bc.get());
+      bc->setup(m_);
+    }
+  refresh_contacts();
+  last_good_ = snapshot();
+}
+
+void Engine::refresh_contacts() {
+  detect_contacts(m_, s_.detection);
+  steps_since_refresh_ = 0;
+  compute_time_step();
+}
+
+void Engine::compute_time_step() {
+  // Stiffness seen by each gridpoint: zones plus contacts (kn*L on the point and, shared by the
+  // projection weights, on the edge's two gridpoints).
+  for (auto& g : m_.gp) g.stiffness = 0.0;
+  zone_stiffness(m_);
+  const std::size_t nb = m_.blocks.size();
+  std::vector<double> kb(nb, 0.0), krot(nb, 0.0);
+  for (const Contact& c : m_.contacts.items) {
+    const double k = std::max(c.response.kn, m_.contacts.models[c.joint]->initial_kn());
+    const double ks = std::max(c.response.ks, m_.contacts.models[c.joint]->initial_ks());
+    // Row sum of the contact spring's stiffness matrix: 2*k*L on the point (its diagonal and the
+    // coupling to the edge), shared by the projection weights on the edge's two gridpoints.
+    const double kl = 2.0 * std::max(k, ks) * std::max(c.length, 1e-12);
+    const Block& B = m_.blocks[c.other];
+    const int n = static_cast<int>(B.boundary.size());
+    m_.gp[c.point].stiffness += kl;
+    m_.gp[B.boundary[c.edge]].stiffness += kl * (1.0 - c.s);
+    m_.gp[B.boundary[(c.edge + 1) % n]].stiffness += kl * c.s;
+  }
+  // Rigid blocks: translational and rotational stiffness from their gridpoints.
+  for (std::size_t b = 0; b < nb; ++b) {
+    const Block& B = m_.blocks[b];
+    if (!B.rigid) continue;
+    for (int i = B.first_gp; i < B.first_gp + B.n_gp; ++i) {
+      kb[b] += m_.gp[i].stiffness;
+      krot[b] += m_.gp[i].stiffness * (m_.gp[i].x - B.xc).squaredNorm();
+    }
+  }
+  // Stiffnesses are absolute row sums, so by Gershgorin omega_max^2 <= max k/m and central
+  // differences are stable for dt <= 2 sqrt(m/k) (see zone_stiffness); scaled by dt_safety.
+  double dt = std::numeric_limits<double>::max();
+  const bool scaling = s_.mass_scaling_dt > 0.0;
+  const double target = s_.mass_scaling_dt / (2.0 * s_.dt_safety);  // m = k (dt/2)^2 is just stable
+  inertial_mass_.assign(m_.gp.size(), 0.0);
+  for (std::size_t i = 0; i < m_.gp.size(); ++i) {
+    const GridPoint& g = m_.gp[i];
+    if (m_.blocks[g.block].rigid) continue;
+    double mass = g.mass;
+    if (scaling && g.stiffness > 0.0) mass = std::max(mass, g.stiffness * target * target);
+    inertial_mass_[i] = mass;
+    if (g.stiffness > 0.0) dt = std::min(dt, 2.0 * std::sqrt(mass / g.stiffness));
+  }
+  block_mass_.assign(nb, 0.0);
+  block_inertia_.assign(nb, 0.0);
+  for (std::size_t b = 0; b < nb; ++b) {
+    const Block& B = m_.blocks[b];
+    if (!B.rigid) continue;
+    double mass = B.mass, inertia = B.inertia;
+    if (scaling) {
+      mass = std::max(mass, kb[b] * target * target);
+      inertia = std::max(inertia, krot[b] * target * target);
+    }
+    block_mass_[b] = mass;
+    block_inertia_[b] = inertia;
+    if (B.fixed || B.prescribed) continue;
+    if (kb[b] > 0.0) dt = std::min(dt, 2.0 * std::sqrt(mass / kb[b]));
+    if (krot[b] > 0.0) dt = std::min(dt, 2.0 * std::sqrt(inertia / krot[b]));
+  }
+  if (dt == std::numeric_limits<double>::max()) dt = 1e-3;  // nothing couples yet: free flight
+  dt *= s_.dt_safety;
+  if (s_.fixed_dt > 0.0) dt = s_.fixed_dt;
+  if (scaling) dt = std::min(dt, s_.mass_scaling_dt);
+  dt_ = dt;
+}
+
+void Engine::contact_forces() {
+  block_contact_force_.assign(m_.blocks.size(), Vec2::Zero());
+  for (Contact& c : m_.contacts.items) {
+    const Block& B = m_.blocks[c.other];
+    const int n = static_cast<int>(B.boundary.size());
+    const int ga = B.boundary[c.edge], gb = B.boundary[(c.edge + 1) % n];
+    const Vec2 vb = (1.0 - c.s) * m_.gp[ga].v + c.s * m_.gp[gb].v;
+    const Vec2 vrel = m_.gp[c.point].v - vb;
+    const Vec2 t(c.normal.y(), -c.normal.x());
+    JointKinematics k;
+    k.du_n = vrel.dot(c.normal) * dt_;
+    k.du_s = vrel.dot(t) * dt_;
+    k.dt = dt_;
+    k.length = c.length;
+    if (c.pretouch_gap > 0.0) {
+      // Not touching yet: geometry decides (the rounded-corner distance), and the law starts at
+      // first touch with the penetration found then, so a point that slides in under an edge of
+      // the other block picks up the stress the joint carries there.
+      const double gap = -c.overlap;
+      if (gap > 0.0) {
+        c.pretouch_gap = gap;
+        c.response.open = true;
+        continue;
+      }
+      k.du_n = gap;
+      c.pretouch_gap = 0.0;
+    }
+    if (c.pending_closure > 0.0) {
+      k.du_n -= c.pending_closure;
+      c.pending_closure = 0.0;
+    }
+    m_.contacts.models[c.joint]->update(c.state, k, c.response);
+    c.fresh = false;
+    // Force on the point's block: compression pushes it away from the other block; shear resists
+    // the relative slip.
+    const Vec2 f = c.length * (c.response.sigma_n * c.normal - c.response.tau * t);
+    m_.gp[c.point].f += f;
+    m_.gp[ga].f -= (1.0 - c.s) * f;
+    m_.gp[gb].f -= c.s * f;
+    applied_sum_ += 2.0 * f.norm();
+    block_contact_force_[m_.gp[c.point].block] += f;
+    block_contact_force_[c.other] -= f;
+  }
+}
+
+Vec2 Engine::contact_force_on(int block) const {
+  return block < static_cast<int>(block_contact_force_.size()) ? block_contact_force_[block] : Vec2::Zero();
+}
+
+void Engine::step() {
+  update_contact_geometry(m_);
+  for (auto& g : m_.gp) g.f.setZero();
+  applied_sum_ = 0.0;
+  zone_forces(m_, dt_, damping_.kind == Damping::Kind::rayleigh ? damping_.beta : 0.0);
+  contact_forces();
+  for (auto* bc : active_) bc->forces(m_, stage_time_);
+  // Gravity on the physical (unscaled) mass.
+  if (m_.gravity.squaredNorm() > 0.0) {
+    for (auto& g : m_.gp)
+      if (!m_.blocks[g.block].rigid) {
+        g.f += g.mass * m_.gravity;
+        applied_sum_ += g.mass * m_.gravity.norm();
+      }
+  }
+  integrate();
+  for (auto* bc : active_) bc->velocities(m_, stage_time_ + dt_);
+  // Positions from the final half-step velocities (prescribed ones included).
+  for (std::size_t i = 0; i < m_.gp.size(); ++i) {
+    GridPoint& g = m_.gp[i];
+    if (m_.blocks[g.block].rigid) continue;
+    g.x += g.v * dt_;
+  }
+  for (Block& b : m_.blocks) {
+    if (!b.rigid) continue;
+    b.xc += b.vc * dt_;
+    b.theta += b.omega * dt_;
+    const double c = std::cos(b.theta), s = std::sin(b.theta);
+    for (int k = 0; k < b.n_gp; ++k) {
+      GridPoint& g = m_.gp[b.first_gp + k];
+      const Vec2& r0 = b.rest_offsets[k];
+      const Vec2 r(c * r0.x() - s * r0.y(), s * r0.x() + c * r0.y());
+      g.x = b.xc + r;
+      g.v = b.vc + b.omega * perp(r);
+    }
+  }
+  m_.time += dt_;
+  stage_time_ += dt_;
+  ++m_.step;
+  if (++steps_since_refresh_ >= s_.refresh_interval) refresh_contacts();
+}
+
+void Engine::integrate() {
+  double unbalanced = 0.0;
+  const bool local = damping_.kind == Damping::Kind::local;
+  const double a = damping_.local_alpha;
+  const double am = damping_.kind == Damping::Kind::rayleigh ? damping_.alpha : 0.0;
+  auto damp = [&](double f, double v) { return local ? f - a * std::abs(f) * (v > 0 ? 1.0 : v < 0 ? -1.0 : 0.0) : f; };
+  // Local damping of a deformable block acts separately on its mean (rigid-body) motion and on
+  // the gridpoints' motion relative to it. Cundall's local damping opposes the sign of the
+  // velocity; applied to absolute velocities it would drag a block that slides steadily (the
+  // sign never changes, so the damping force is a spurious resistance of alpha*|F| and does not
+  // damp the vibration superposed on the sliding). Split this way, a block driven at constant
+  // speed feels no drag and its deformation modes are damped as in a static problem. The mean
+  // motion itself (and a rigid block's motion) is damped relative to its running average over
+  // kDampingWindow steps, so that a rigid-body oscillation superposed on steady sliding is
+  // damped too, while a block at rest sees classic local damping.
+  const std::size_t nb = m_.blocks.size();
+  mean_v_.assign(nb, Vec2::Zero());
+  mean_f_.assign(nb, Vec2::Zero());
+  mass_sum_.assign(nb, Vec2::Zero());
+  if (local) {
+    for (std::size_t i = 0; i < m_.gp.size(); ++i) {
+      const GridPoint& g = m_.gp[i];
+      if (m_.blocks[g.block].rigid) continue;
+      const double mi = inertial_mass_[i];
+      for (int d = 0; d < 2; ++d) {
+        if (d == 0 ? g.fixed_x : g.fixed_y) continue;
+        mean_v_[g.block][d] += mi * g.v[d];
+        mean_f_[g.block][d] += g.f[d];
+        mass_sum_[g.block][d] += mi;
+      }
+    }
+    for (std::size_t b = 0; b < nb; ++b)
+      for (int d = 0; d < 2; ++d)
+        if (mass_sum_[b][d] > 0.0) mean_v_[b][d] /= mass_sum_[b][d];
+  }
+  if (smooth_v_.size() != nb) {
+    smooth_v_.assign(nb, Vec2::Zero());
+    smooth_w_.assign(nb, 0.0);
+  }
+  const double w = 1.0 / kDampingWindow;
+  for (std::size_t b = 0; b < nb; ++b) {
+    const Vec2 v = m_.blocks[b].rigid ? m_.blocks[b].vc : mean_v_[b];
+    smooth_v_[b] += w * (v - smooth_v_[b]);
+    smooth_w_[b] += w * (m_.blocks[b].omega - smooth_w_[b]);
+  }
+  auto sgn = [](double v) { return v > 0 ? 1.0 : v < 0 ? -1.0 : 0.0; };
+  for (std::size_t i = 0; i < m_.gp.size(); ++i) {
+    GridPoint& g = m_.gp[i];
+    if (m_.blocks[g.block].rigid) continue;
+    const double mi = inertial_mass_[i];
+    Vec2 f = g.f - am * mi * g.v;
+    for (int d = 0; d < 2; ++d) {
+      if (d == 0 ? g.fixed_x : g.fixed_y) continue;
+      unbalanced += std::abs(f[d]);
+      double fd = f[d];
+      if (local) {
+        const double share = mi / mass_sum_[g.block][d];  // this point's share of the block's mean motion
+        const double f_mean = share * mean_f_[g.block][d];
+        const double f_rel = f[d] - f_mean;
+        fd = f[d] - a * std::abs(f_mean) * sgn(mean_v_[g.block][d] - smooth_v_[g.block][d]) - a * std::abs(f_rel) * sgn(g.v[d] - mean_v_[g.block][d]);
+      }
+      g.v[d] += fd / mi * dt_;
+    }
+  }
+  for (std::size_t bi = 0; bi < m_.blocks.size(); ++bi) {
+    Block& b = m_.blocks[bi];
+    if (!b.rigid) continue;
+    Vec2 f = Vec2::Zero();
+    double mom = 0.0;
+    for (int k = 0; k < b.n_gp; ++k) {
+      const GridPoint& g = m_.gp[b.first_gp + k];
+      f += g.f;
+      mom += cross(g.x - b.xc, g.f);
+    }
+    f += b.mass * m_.gravity;
+    applied_sum_ += b.mass * m_.gravity.norm();
+    b.fc = f;
+    b.moment = mom;
+    if (b.fixed || b.prescribed) continue;
+    const double mi = block_mass_[bi], ii = block_inertia_[bi];
+    f -= am * mi * b.vc;
+    mom -= am * ii * b.omega;
+    unbalanced += std::abs(f.x()) + std::abs(f.y());
+    b.vc.x() += damp(f.x(), b.vc.x() - smooth_v_[bi].x()) / mi * dt_;
+    b.vc.y() += damp(f.y(), b.vc.y() - smooth_v_[bi].y()) / mi * dt_;
+    if (ii > 0.0) b.omega += damp(mom, b.omega - smooth_w_[bi]) / ii * dt_;
+  }
+  ratio_ = applied_sum_ > 0.0 ? unbalanced / applied_sum_ : 0.0;
+}
+
+void Engine::run_steps(long n) {
+  for (long i = 0; i < n; ++i) {
+    step();
+    if (m_.step % 1000 == 0) check_state();
+  }
+  check_state();
+}
+
+void Engine::check_state() {
+  for (std::size_t i = 0; i < m_.gp.size(); ++i) {
+    const GridPoint& g = m_.gp[i];
+    if (!g.x.allFinite() || !g.v.allFinite() || g.v.norm() > s_.velocity_limit) {
+      std::ostringstream os;
+      os << "at step " << m_.step << " (time " << m_.time << " s): gridpoint " << g.local << " of block '"
+         << m_.blocks[g.block].name << "' has " << (g.v.allFinite() ? "a runaway velocity " : "a non-finite state ")
+         << "|v| = " << g.v.norm() << " m/s near (" << g.x.x() << ", " << g.x.y() << ")";
+      // The contact with the largest stress on that block is the usual culprit.
+      const Contact* worst = nullptr;
+      for (const Contact& c : m_.contacts.items)
+        if ((c.key.point_block == g.block || m_.blocks[c.other].id == g.block) &&
+            (!worst || !std::isfinite(c.response.sigma_n) || std::abs(c.response.sigma_n) > std::abs(worst->response.sigma_n)))
+          worst = &c;
+      if (worst)
+        os << "; most loaded contact: point " << worst->key.point_local << " of block " << worst->key.point_block
+           << " on block " << worst->key.other_block << " (sigma_n = " << worst->response.sigma_n << " Pa)";
+      os << ". Time step " << dt_ << " s; check stiffnesses, masses and the time step.";
+      throw InstabilityError(os.str());
+    }
+  }
+  last_good_ = snapshot();
+}
+
+double Engine::kinetic_energy() const {
+  double e = 0.0;
+  for (const auto& g : m_.gp)
+    if (!m_.blocks[g.block].rigid) e += 0.5 * g.mass * g.v.squaredNorm();
+  for (const auto& b : m_.blocks)
+    if (b.rigid) e += 0.5 * b.mass * b.vc.squaredNorm() + 0.5 * b.inertia * b.omega * b.omega;
+  return e;
+}
+
+ModelSnapshot Engine::snapshot() const {
+  return ModelSnapshot{m_.gp, m_.zones, m_.blocks, m_.contacts.items, m_.time, m_.step};
+}
+
+void Engine::restore(const ModelSnapshot& s) {
+  m_.gp = s.gp;
+  m_.zones = s.zones;
+  m_.blocks = s.blocks;
+  m_.contacts.restore(std::vector<Contact>(s.contacts));
+  m_.time = s.time;
+  m_.step = s.step;
+}
+
+}  // namespace rockdem

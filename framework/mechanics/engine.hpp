@@ -1,0 +1,103 @@
+#pragma once
+// Explicit central-difference time stepping of a block model (Cundall & Hart 1985; UDEC):
+// velocities live at half steps, positions at whole steps. One cycle: contact geometry ->
+// zone stresses -> contact forces through the joint laws -> external forces -> damping ->
+// velocities and positions. The same code runs whatever the decomposition (it never sees MPI).
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "framework/boundary/conditions.hpp"
+#include "framework/contact/detection.hpp"
+#include "framework/mechanics/model.hpp"
+
+namespace rockdem {
+
+struct Damping {
+  enum class Kind { none, local, rayleigh } kind = Kind::local;
+  double local_alpha = 0.8;  // Cundall's local non-viscous damping coefficient
+  double alpha = 0.0;        // Rayleigh mass-proportional coefficient [1/s]
+  double beta = 0.0;         // Rayleigh stiffness-proportional coefficient [s]
+  // Rayleigh coefficients for a critical-damping fraction `xi` at frequency `f` [Hz], split
+  // evenly between mass and stiffness terms (minimum of the Rayleigh curve at f).
+  static Damping rayleigh(double xi, double f);
+};
+
+struct EngineSettings {
+  double dt_safety = 0.5;       // fraction of the critical time step 2 sqrt(m/k)
+  double fixed_dt = 0.0;        // >0: use this time step (checked against the critical one)
+  double mass_scaling_dt = 0.0; // >0: scale inertial masses so this time step is stable
+  int refresh_interval = 10;    // steps between contact detections
+  DetectionSettings detection;
+  double velocity_limit = 1e3;  // |v| above this is taken as a runaway [m/s]
+};
+
+// A copy of everything that evolves, for "last good state" and restarts in memory.
+struct ModelSnapshot {
+  std::vector<GridPoint> gp;
+  std::vector<Zone> zones;
+  std::vector<Block> blocks;
+  std::vector<Contact> contacts;
+  double time = 0.0;
+  long step = 0;
+};
+
+class Engine {
+ public:
+  Engine(Model& m, EngineSettings s);
+
+  void add_condition(std::unique_ptr<BoundaryCondition> bc);
+  const std::vector<std::unique_ptr<BoundaryCondition>>& conditions() const { return bcs_; }
+
+  // Start a stage: activates the boundary conditions listed for it, resets the stage clock, detects
+  // contacts and computes masses and the time step.
+  void begin_stage(const std::string& name, const Damping& d);
+  void step();
+  // Run `n` steps; stops early with InstabilityError (after keeping the last good state).
+  void run_steps(long n);
+
+  double dt() const { return dt_; }
+  double stage_time() const { return stage_time_; }
+  const std::string& stage() const { return stage_; }
+  // Unbalanced-force ratio: sum of |net force| over sum of |applied and contact forces|.
+  double unbalanced_ratio() const { return ratio_; }
+  // Contact force exerted on a block (sum over its contacts) in the last step [N/m].
+  Vec2 contact_force_on(int block) const;
+  double kinetic_energy() const;
+
+  const ModelSnapshot& last_good() const { return last_good_; }
+  ModelSnapshot snapshot() const;
+  void restore(const ModelSnapshot& s);
+  void refresh_contacts();  // detection + time step update
+  Model& model() { return m_; }
+  const Model& model() const { return m_; }
+  const EngineSettings& settings() const { return s_; }
+
+ private:
+  void compute_time_step();
+  void contact_forces();
+  void integrate();
+  void check_state();
+
+  Model& m_;
+  EngineSettings s_;
+  std::vector<std::unique_ptr<BoundaryCondition>> bcs_;
+  std::vector<BoundaryCondition*> active_;
+  Damping damping_;
+  std::string stage_;
+  double stage_time_ = 0.0;
+  double dt_ = 0.0;
+  double ratio_ = 0.0;
+  double applied_sum_ = 0.0;
+  std::vector<double> inertial_mass_;      // per gridpoint (after mass scaling)
+  std::vector<double> block_mass_, block_inertia_;
+  std::vector<Vec2> block_contact_force_;  // per block, last step
+  std::vector<Vec2> mean_v_, mean_f_, mass_sum_;  // per block, for local damping
+  std::vector<Vec2> smooth_v_;                    // running average of each block's (mean) velocity
+  std::vector<double> smooth_w_;                  // and spin
+  static constexpr double kDampingWindow = 1000.0;  // steps
+  ModelSnapshot last_good_;
+  long steps_since_refresh_ = 0;
+};
+
+}  // namespace rockdem
