@@ -69,7 +69,8 @@ class ElementDriver {
   // Starts a stage: applies its normal stress with no shear (normal loading), zeroes the stage's
   // normal-displacement reference. Then call step() for each shear increment.
   const JointResponse& begin_stage(const ElementStage& stage);
-  // One shear increment du_s over dt under the stage's normal condition.
+  // One shear increment du_s over dt under the stage's normal condition (time advances by dt;
+  // run() instead sets it from the path's own times, so segment ends are exact).
   const JointResponse& step(const ElementStage& stage, double du_s, double dt);
 
   const JointStateBlock& state() const { return state_; }
