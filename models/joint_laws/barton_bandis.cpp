@@ -187,13 +187,8 @@ void BartonBandis::update(const Params& p, State& s, const JointKinematics& k, J
   const double v_tr = s.closure - k.du_n;
   auto finish_open = [&](double closure) {
     s.closure = closure;
-    s.sigma_n = 0.0;
-    s.tau = 0.0;
     r.kn = cl.tangent(0.0);
-    r.open = true;
-    r.u_s = s.u_s;
-    r.u_n = s.u_n;
-    r.dilation = s.dilation;
+    law_support::report_open(s, r);
   };
   if (s.closure < 0.0 && v_tr < 0.0) return finish_open(v_tr);  // open and staying open
   const double sigma_tr = cl.sigma(v_tr);
@@ -216,11 +211,7 @@ void BartonBandis::update(const Params& p, State& s, const JointKinematics& k, J
   ctx.dilation_rate = sign * std::tan(0.5 * std::max(0.0, m_tr));  // eq. 3-7
   ctx.toward_origin = u_s_before * k.du_s < 0.0;
   chain.modify(ctx);
-  // Effects' change of the strength, carried through the loop below as a factor (strengths
-  // scale with sigma_n), or as an offset where the base strength is zero. Without effects the
-  // factor is exactly 1 and the offset exactly 0, so results are bit-identical.
-  const double s_factor = strength_tr > 0.0 ? ctx.strength / strength_tr : 1.0;
-  const double d_strength = strength_tr > 0.0 ? 0.0 : ctx.strength - strength_tr;
+  const law_support::StrengthChange effects(strength_tr, ctx.strength);
   const double rate = ctx.dilation_rate;
 
   const double tau_old = s.tau;
@@ -229,11 +220,11 @@ void BartonBandis::update(const Params& p, State& s, const JointKinematics& k, J
   bool slipping = false;
   auto step = [&](double sigma) {
     const double i = roughness_i(p, d, sigma);  // one log10 per evaluation
-    const double s_old = std::max(0.0, strength_from_i(p, d, s.delta, sigma, i) * s_factor + d_strength);
+    const double s_old = effects(strength_from_i(p, d, s.delta, sigma, i));
     slipping = std::abs(tau_tr) > s_old;
     if (slipping) {
       travel = (std::abs(tau_tr) - s_old) / p.ks;
-      const double s_new = std::max(0.0, strength_from_i(p, d, s.delta + travel, sigma, i) * s_factor + d_strength);
+      const double s_new = effects(strength_from_i(p, d, s.delta + travel, sigma, i));
       tau = std::copysign(std::min(std::abs(tau_tr), s_new), tau_tr);
     } else {
       travel = 0.0;
@@ -259,11 +250,7 @@ void BartonBandis::update(const Params& p, State& s, const JointKinematics& k, J
   s.sigma_n = cl.sigma(s.closure);
   s.tau = tau;
   r.kn = cl.tangent(s.closure);
-  r.sigma_n = s.sigma_n;
-  r.tau = s.tau;
-  r.u_s = s.u_s;
-  r.u_n = s.u_n;
-  r.dilation = s.dilation;
+  law_support::report(s, r);
   r.slipping = slipping;
   r.dissipated = 0.5 * (tau + tau_old) * dus_p;
 }

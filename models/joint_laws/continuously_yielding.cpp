@@ -124,14 +124,9 @@ void ContinuouslyYielding::update(const Params& p, State& s, const JointKinemati
   const double kn = normal_stiffness(p, s.sigma_n);
   r.kn = kn;
   auto finish_open = [&] {
-    s.sigma_n = 0.0;
-    s.tau = 0.0;
     s.r = 0.0;
-    r.open = true;
     r.ks = shear_stiffness(p, 0.0);
-    r.u_s = s.u_s;
-    r.u_n = s.u_n;
-    r.dilation = s.dilation;
+    law_support::report_open(s, r);
   };
   double sigma_tr = 0.0;
   if (s.gap > 0.0) {
@@ -162,11 +157,7 @@ void ContinuouslyYielding::update(const Params& p, State& s, const JointKinemati
   ctx.dilation_rate = sign * std::tan(psi);  // eq. 3-16
   ctx.toward_origin = u_s_before * k.du_s < 0.0;
   chain.modify(ctx);
-  // Effects' change of the strength, carried through the loop below as a factor (strengths
-  // scale with sigma_n), or as an offset where the base strength is zero. Without effects the
-  // factor is exactly 1 and the offset exactly 0, so results are bit-identical.
-  const double s_factor = bound_tr > 0.0 ? ctx.strength / bound_tr : 1.0;
-  const double d_strength = bound_tr > 0.0 ? 0.0 : ctx.strength - bound_tr;
+  const law_support::StrengthChange effects(bound_tr, ctx.strength);
   const double rate = ctx.dilation_rate;
 
   const double dir = k.du_s > 0.0 ? 1.0 : (k.du_s < 0.0 ? -1.0 : 0.0);
@@ -177,7 +168,7 @@ void ContinuouslyYielding::update(const Params& p, State& s, const JointKinemati
   int n_sub = 1;
   {
     const double sig0 = s.sigma_n > 0.0 ? s.sigma_n : std::max(0.0, sigma_tr);
-    const double b0 = sig0 * std::tan(phim) * s_factor + d_strength;
+    const double b0 = effects(sig0 * std::tan(phim));
     const double r0 = reversal ? -0.75 : s.r;  // a reversal starts near -tau_o: (1 - r) ~ 2
     const double limit = 0.5 * b0 * (1.0 - r0);
     const double need = limit > 0.0 ? std::ceil(shear_stiffness(p, sig0) * std::abs(k.du_s) / limit) : 1.0;
@@ -189,12 +180,12 @@ void ContinuouslyYielding::update(const Params& p, State& s, const JointKinemati
     tau = tau_old;
     up = s.plastic_slip;
     rr = s.r;
-    const double bound0 = std::max(0.0, sigma * std::tan(phi_m(p, up)) * s_factor + d_strength);
+    const double bound0 = effects(sigma * std::tan(phi_m(p, up)));
     if (reversal) rr = bound0 > 0.0 ? std::min(tau / (dir * bound0), 0.75) : 0.0;
     if (dir != 0.0) {
       const double h = k.du_s / n_sub;
       for (int i = 0; i < n_sub; ++i) {
-        const double bound = std::max(0.0, sigma * std::tan(phi_m(p, up)) * s_factor + d_strength);
+        const double bound = effects(sigma * std::tan(phi_m(p, up)));
         if (bound <= 0.0) {  // no strength left: the joint slides freely
           tau = 0.0;
           up += std::abs(h);
@@ -234,11 +225,7 @@ void ContinuouslyYielding::update(const Params& p, State& s, const JointKinemati
   s.sigma_n = sigma_final;
   s.tau = tau;
   r.ks = ks;
-  r.sigma_n = s.sigma_n;
-  r.tau = s.tau;
-  r.u_s = s.u_s;
-  r.u_n = s.u_n;
-  r.dilation = s.dilation;
+  law_support::report(s, r);
   r.slipping = up > up_before;
   r.dissipated = 0.5 * (tau + tau_old) * dus_p;
 }

@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "models/joint_laws/joint_law.hpp"
+
 namespace rockdem::law_support {
 
 // The three readings of dilation on reverse shearing that the CNWRA report compares (section 3
@@ -55,6 +57,36 @@ inline double dilation_sign(int option, double u_s, double du_s, double u_cs, bo
       return (away - (was_reached ? 0.0 : toward)) / len;
     }
   }
+}
+
+// The change the effects made to the strength a law computed at the trial normal stress, to be
+// applied to the strength at another normal stress (the dilation-consistent one): a factor,
+// since strengths scale with sigma_n, or an offset where the base strength is zero. Without
+// effects the factor is exactly 1 and the offset exactly 0, so results are bit-identical.
+struct StrengthChange {
+  double factor = 1.0, offset = 0.0;
+  StrengthChange(double base, double changed)
+      : factor(base > 0.0 ? changed / base : 1.0), offset(base > 0.0 ? 0.0 : changed - base) {}
+  double operator()(double strength) const { return std::max(0.0, strength * factor + offset); }
+};
+
+// The response fields every law reports from its state.
+template <class State>
+void report(const State& s, JointResponse& r) {
+  r.sigma_n = s.sigma_n;
+  r.tau = s.tau;
+  r.u_s = s.u_s;
+  r.u_n = s.u_n;
+  r.dilation = s.dilation;
+}
+
+// An open joint carries no stress; its offsets and shear history stay.
+template <class State>
+void report_open(State& s, JointResponse& r) {
+  s.sigma_n = 0.0;
+  s.tau = 0.0;
+  report(s, r);
+  r.open = true;
 }
 
 // Solves sigma = step(sigma), where `step(sigma)` performs the shear update with the strength

@@ -62,20 +62,12 @@ void MohrCoulomb::update(const Params& p, State& s, const JointKinematics& k, Jo
   r = JointResponse{};
   r.kn = p.kn;
   r.ks = p.ks;
-  auto finish_open = [&] {
-    s.sigma_n = 0.0;
-    s.tau = 0.0;
-    r.open = true;
-    r.u_s = s.u_s;
-    r.u_n = s.u_n;
-    r.dilation = s.dilation;
-  };
   // Normal trial stress; an open joint carries nothing until the surfaces touch again, and then
   // only the overlap past the touching point loads it. Shear history (slip, dilation) is kept.
   double sigma_tr = 0.0;
   if (s.gap > 0.0) {
     s.gap += k.du_n;
-    if (s.gap > 0.0) return finish_open();
+    if (s.gap > 0.0) return law_support::report_open(s, r);
     sigma_tr = -p.kn * s.gap;
     s.gap = 0.0;
   } else {
@@ -97,11 +89,7 @@ void MohrCoulomb::update(const Params& p, State& s, const JointKinematics& k, Jo
   ctx.dilation_rate = sign * std::tan(p.dilation_angle);
   ctx.toward_origin = u_s_before * k.du_s < 0.0;
   chain.modify(ctx);
-  // Effects' change of the strength, carried through the loop below as a factor (strengths
-  // scale with sigma_n), or as an offset where the base strength is zero. Without effects the
-  // factor is exactly 1 and the offset exactly 0, so results are bit-identical.
-  const double s_factor = strength_tr > 0.0 ? ctx.strength / strength_tr : 1.0;
-  const double d_strength = strength_tr > 0.0 ? 0.0 : ctx.strength - strength_tr;
+  const law_support::StrengthChange effects(strength_tr, ctx.strength);
   const double rate = ctx.dilation_rate;
 
   const double tau_old = s.tau;
@@ -109,7 +97,7 @@ void MohrCoulomb::update(const Params& p, State& s, const JointKinematics& k, Jo
   double tau = tau_tr, dus_p = 0.0, ddil = 0.0;
   bool slipping = false;
   auto step = [&](double sigma) {
-    const double strength = std::max(0.0, (s.cohesion + sigma * tan_phi) * s_factor + d_strength);
+    const double strength = effects(s.cohesion + sigma * tan_phi);
     slipping = std::abs(tau_tr) > strength;
     tau = slipping ? std::copysign(strength, tau_tr) : tau_tr;
     dus_p = slipping ? k.du_s - (tau - tau_old) / p.ks : 0.0;  // plastic part of the increment
@@ -129,18 +117,14 @@ void MohrCoulomb::update(const Params& p, State& s, const JointKinematics& k, Jo
   if (sigma_final < -s.tension) {
     s.gap = -std::min(sigma_tr, sigma_final) / p.kn;
     if (p.residual_after_failure) s.cohesion = s.tension = 0.0;
-    return finish_open();
+    return law_support::report_open(s, r);
   }
   if (slipping && p.residual_after_failure) s.cohesion = s.tension = 0.0;
   s.plastic_slip += std::abs(dus_p);
   s.dilation += ddil;
   s.sigma_n = sigma_final;
   s.tau = tau;
-  r.sigma_n = s.sigma_n;
-  r.tau = s.tau;
-  r.u_s = s.u_s;
-  r.u_n = s.u_n;
-  r.dilation = s.dilation;
+  law_support::report(s, r);
   r.slipping = slipping;
   r.dissipated = 0.5 * (tau + tau_old) * dus_p;
 }
