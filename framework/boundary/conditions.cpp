@@ -88,7 +88,10 @@ std::string VelocityCondition::describe() const {
 
 void VelocityCondition::setup(Model& m) {
   if (rigid_) {
-    m.blocks[sel_.block].prescribed = true;
+    Block& b = m.blocks[sel_.block];
+    if (vx_) b.prescribed |= Block::kDriveX;
+    if (vy_) b.prescribed |= Block::kDriveY;
+    if (spin_) b.prescribed |= Block::kDriveSpin;
     return;
   }
   for (int g : sel_.points) {

@@ -60,6 +60,8 @@ struct Projection {
 // keeps that face's normal rather than jumping to the other face. Flat and concave vertices are
 // not rounded; beyond their ends the normal points from the vertex to the point when the point
 // is outside both edges, else it is the mean of the two edge normals.
+constexpr double kSin5 = 0.08715574274765817;  // sin(5 degrees)
+
 Projection project_rounded(const Model& m, const Block& b, const Vec2& p, int i, double d) {
   const int n = static_cast<int>(b.boundary.size());
   const Vec2& a = m.gp[b.boundary[i]].x;
@@ -72,16 +74,22 @@ Projection project_rounded(const Model& m, const Block& b, const Vec2& p, int i,
   const Vec2 up = (a - ap).normalized(), un = (cn - c).normalized();
   // Tangent length and radius of the rounding at a vertex turning by angle th (left turns are
   // convex on a counter-clockwise loop).
-  auto rounding = [&](double th, double l1, double l2, double& t, double& r) {
+  // Tangent length and radius of the rounding at a vertex where the unit direction turns from e1
+  // to e2 (left turns are convex on a counter-clockwise loop); tan(th/2) = sin th / (1 + cos th).
+  auto rounding = [&](const Vec2& e1, const Vec2& e2, double l1, double l2, double& t, double& r) {
     t = r = 0.0;
-    if (th <= 1e-6 || d <= 0.0) return;
-    const double h = std::tan(0.5 * th);
+    // Only real corners are rounded: a boundary gridpoint of a deformable block on a straight
+    // face turns by a tiny angle, and rounding it with radius d would bend the normal of points
+    // that merely pass over it.
+    const double sn = cross(e1, e2), cs = e1.dot(e2);
+    if (d <= 0.0 || sn <= 0.0 || (cs > 0.0 && sn < kSin5)) return;
+    const double h = sn / (1.0 + cs);
     t = std::min({d * h, 0.5 * l1, 0.5 * l2});
     r = t / h;
   };
   double ta, ra, tb, rb;
-  rounding(std::atan2(cross(up, u), up.dot(u)), len, (a - ap).norm(), ta, ra);
-  rounding(std::atan2(cross(u, un), u.dot(un)), len, (cn - c).norm(), tb, rb);
+  rounding(up, u, len, (a - ap).norm(), ta, ra);
+  rounding(u, un, len, (cn - c).norm(), tb, rb);
   const double xi = (p - a).dot(u);
   Projection pr;
   pr.edge = i;
@@ -92,13 +100,16 @@ Projection project_rounded(const Model& m, const Block& b, const Vec2& p, int i,
     pr.normal = qn > 1e-14 ? Vec2(q / qn) : nrm;
     pr.dist = qn - r;
   };
-  if (xi < ta) {
-    arc(a + ta * u - ra * nrm, ra);
-  } else if (xi > len - tb) {
-    arc(c - tb * u - rb * nrm, rb);
+  const Vec2 nprev(up.y(), -up.x()), nnext(un.y(), -un.x());
+  const Vec2 ca = a + ta * u - ra * nrm, cb = c - tb * u - rb * nrm;
+  // The arc of a rounded corner serves the points in its sector, between the two edge normals.
+  if (xi < ta && ta > 0.0 && cross(nprev, p - ca) >= 0.0 && cross(p - ca, nrm) >= 0.0) {
+    arc(ca, ra);
+  } else if (xi > len - tb && tb > 0.0 && cross(nrm, p - cb) >= 0.0 && cross(p - cb, nnext) >= 0.0) {
+    arc(cb, rb);
   } else if (xi < 0.0 || xi > len) {
     const Vec2& v = xi < 0.0 ? a : c;
-    const Vec2 other = xi < 0.0 ? Vec2(up.y(), -up.x()) : Vec2(un.y(), -un.x());
+    const Vec2& other = xi < 0.0 ? nprev : nnext;
     const Vec2 dv = p - v;
     if (dv.dot(nrm) > 0.0 && dv.dot(other) > 0.0) {
       pr.dist = dv.norm();
@@ -263,10 +274,11 @@ std::size_t detect_contacts(Model& m, const DetectionSettings& s) {
       Projection pr;
       if (own.squaredNorm() > 0.0) pr = closest_face(m, B, p, own, s.distance, face);
       if (!face) pr = closest_edge(m, B, p, m.contacts.rounding);
+      if (pr.dist > 10.0 * s.distance) continue;
       const ContactKey key{A.id, m.gp[g].local, B.id};
       const Contact* old = m.contacts.find(key);
       const bool closed = old && !old->response.open && !old->fresh;
-      if (pr.dist > s.distance && !(closed && pr.dist < 10.0 * s.distance)) continue;
+      if (pr.dist > s.distance && !closed) continue;
       Contact c;
       c.key = key;
       c.point = g;

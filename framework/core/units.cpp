@@ -127,7 +127,7 @@ double parse_quantity(std::string_view text, Dimension want) {
       if (u.dim != want) {
         throw InputError("unit '" + std::string(unit) + "' is a " + std::string(dimension_name(u.dim)) +
                          ", but a " + std::string(dimension_name(want)) +
-                         " is want (valid units: " + std::string(units_for(want)) + ")");
+                         " is expected (valid units: " + std::string(units_for(want)) + ")");
       }
       return value * u.to_si;
     }

@@ -279,11 +279,8 @@ Case build(const toml::table& root, const Reader& r) {
     const std::string path = "materials." + name;
     const std::string model = r.str(*t, "model", path);
     const auto& entry = RockMaterialRegistry::instance().get(model, "rock material", r.at(*t->get("model"), path + ".model"));
-    toml::table params = *t;
-    params.erase("name");
-    params.erase("model");
     materials[name] = static_cast<int>(m.materials.size());
-    m.materials.push_back(entry.make(raw_values(params, r.file, path), r.at_table(*t, path)));
+    m.materials.push_back(entry.make(raw_values(*t, r.file, path, {"name", "model"}), r.at_table(*t, path)));
   }
 
   // [[joints]]: joint models and the groups they act between.
@@ -316,19 +313,15 @@ Case build(const toml::table& root, const Reader& r) {
           es.name = s->get();
         } else if (const auto* et = e.as_table()) {
           es.name = r.str(*et, "name", path + ".effects");
-          toml::table p = *et;
-          p.erase("name");
-          es.params = raw_values(p, r.file, path + ".effects." + es.name);
+          es.params = raw_values(*et, r.file, path + ".effects." + es.name, {"name"});
         } else {
           throw InputError(es.where + ": an effect is a name or a table {name = ..., <parameters>}");
         }
         effects.push_back(std::move(es));
       }
     }
-    toml::table params = *t;
-    for (const char* k : {"name", "law", "between", "effects"}) params.erase(k);
     const int index = static_cast<int>(m.contacts.models.size());
-    m.contacts.models.push_back(make_joint_model(law, raw_values(params, r.file, path), effects,
+    m.contacts.models.push_back(make_joint_model(law, raw_values(*t, r.file, path, {"name", "law", "between", "effects"}), effects,
                                                  r.at(*t->get("law"), path + ".law")));
     m.contacts.model_names.push_back(name);
     pending.push_back({r.str(*between->get(0), path + ".between"), r.str(*between->get(1), path + ".between"), index});

@@ -449,7 +449,7 @@ CheckpointScalars read_impl(Model& m, const std::string& path) {
     b.moment = b_moment[i];
     b.mass_scale = b_mscale[i];
     b.fixed = b_fixed[i] != 0;
-    b.prescribed = b_presc[i] != 0;
+    b.prescribed = b_presc[i];
   }
   for (std::size_t i = 0, k = 0; i < nb; ++i) {
     auto& r = m.blocks[i].rest_offsets;

@@ -31,7 +31,10 @@ void Engine::begin_stage(const std::string& name, const Damping& d) {
   for (auto& g : m_.gp) {
     g.fixed_x = g.fixed_y = false;
   }
-  for (auto& b : m_.blocks) b.fixed = b.prescribed = false;
+  for (auto& b : m_.blocks) {
+    b.fixed = false;
+    b.prescribed = 0;
+  }
   active_.clear();
   for (auto& bc : bcs_)
     if (bc->active_in(name)) {
@@ -102,7 +105,7 @@ void Engine::compute_time_step() {
     }
     block_mass_[b] = mass;
     block_inertia_[b] = inertia;
-    if (B.fixed || B.prescribed) continue;
+    if (B.fixed || B.prescribed == Block::kDriveAll) continue;
     if (kb[b] > 0.0) dt = std::min(dt, 2.0 * std::sqrt(mass / kb[b]));
     if (krot[b] > 0.0) dt = std::min(dt, 2.0 * std::sqrt(inertia / krot[b]));
   }
@@ -282,14 +285,19 @@ void Engine::integrate() {
     applied_sum_ += b.mass * m_.gravity.norm();
     b.fc = f;
     b.moment = mom;
-    if (b.fixed || b.prescribed) continue;
+    if (b.fixed) continue;
     const double mi = block_mass_[bi], ii = block_inertia_[bi];
     f -= am * mi * b.vc;
     mom -= am * ii * b.omega;
-    unbalanced += std::abs(f.x()) + std::abs(f.y());
-    b.vc.x() += damp(f.x(), b.vc.x() - smooth_v_[bi].x()) / mi * dt_;
-    b.vc.y() += damp(f.y(), b.vc.y() - smooth_v_[bi].y()) / mi * dt_;
-    if (ii > 0.0) b.omega += damp(mom, b.omega - smooth_w_[bi]) / ii * dt_;
+    if (!(b.prescribed & Block::kDriveX)) {
+      unbalanced += std::abs(f.x());
+      b.vc.x() += damp(f.x(), b.vc.x() - smooth_v_[bi].x()) / mi * dt_;
+    }
+    if (!(b.prescribed & Block::kDriveY)) {
+      unbalanced += std::abs(f.y());
+      b.vc.y() += damp(f.y(), b.vc.y() - smooth_v_[bi].y()) / mi * dt_;
+    }
+    if (!(b.prescribed & Block::kDriveSpin) && ii > 0.0) b.omega += damp(mom, b.omega - smooth_w_[bi]) / ii * dt_;
   }
   ratio_ = applied_sum_ > 0.0 ? unbalanced / applied_sum_ : 0.0;
 }

@@ -7,6 +7,7 @@
 // on boundary edges (pairs of consecutive boundary gridpoints); a rigid block then sums the forces
 // on its gridpoints into a force and a moment at its centroid.
 #include <array>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -57,7 +58,10 @@ struct Block {
   double theta = 0.0, omega = 0.0, moment = 0.0;
   double mass_scale = 1.0;
   bool fixed = false;           // rigid block held in place
-  bool prescribed = false;      // rigid block driven by a velocity history
+  // Rigid block driven by velocity histories: bit mask of the driven components (kDriveX,
+  // kDriveY, kDriveSpin); the others follow the equation of motion.
+  std::uint8_t prescribed = 0;
+  static constexpr std::uint8_t kDriveX = 1, kDriveY = 2, kDriveSpin = 4, kDriveAll = 7;
   std::vector<Vec2> rest_offsets;  // rigid: vertex offsets from the centroid at theta = 0
 };
 
