@@ -128,7 +128,8 @@ std::string TractionCondition::describe() const {
   return "traction normal: " + normal_.describe() + ", shear: " + shear_.describe();
 }
 
-void TractionCondition::forces(Model& m, double t) {
+double TractionCondition::forces(Model& m, double t) {
+  double applied = 0.0;
   const Block& b = m.blocks[sel_.block];
   const int n = static_cast<int>(b.boundary.size());
   const double sn = normal_(t), ss = shear_(t);
@@ -139,7 +140,9 @@ void TractionCondition::forces(Model& m, double t) {
     const Vec2 f = -sn * out + ss * d;        // compression pushes inward
     m.gp[ga].f += 0.5 * f;
     m.gp[gb].f += 0.5 * f;
+    applied += f.norm();
   }
+  return applied;
 }
 
 QuietCondition::QuietCondition(FaceSelection sel, double rho, double cp, double cs)
@@ -151,7 +154,8 @@ std::string QuietCondition::describe() const {
   return os.str();
 }
 
-void QuietCondition::forces(Model& m, double) {
+double QuietCondition::forces(Model& m, double) {
+  double applied = 0.0;
   const Block& b = m.blocks[sel_.block];
   const int n = static_cast<int>(b.boundary.size());
   for (int i : sel_.edges) {
@@ -164,8 +168,10 @@ void QuietCondition::forces(Model& m, double) {
       const Vec2& v = m.gp[g].v;
       const Vec2 f = -rho_ * (cp_ * v.dot(nrm) * nrm + cs_ * v.dot(t) * t) * 0.5 * len;
       m.gp[g].f += f;
+      applied += f.norm();
     }
   }
+  return applied;
 }
 
 }  // namespace rockdem

@@ -2,7 +2,8 @@
 // Boundary conditions. Each acts on a set of gridpoints (a block face) or on a rigid block, may be
 // limited to some stages, and is applied by the engine at fixed points of each cycle:
 //   setup()     once per stage: flags fixed/prescribed degrees of freedom;
-//   forces()    adds external forces (tractions, dashpots) to GridPoint::f;
+//   forces()    adds external forces (tractions, dashpots) to GridPoint::f and returns the sum
+//               of their magnitudes (the unbalanced-force ratio is measured against it);
 //   velocities() overwrites prescribed velocities after the equation of motion.
 #include <memory>
 #include <optional>
@@ -31,7 +32,7 @@ class BoundaryCondition {
   virtual ~BoundaryCondition() = default;
   virtual std::string describe() const = 0;
   virtual void setup(Model&) {}
-  virtual void forces(Model&, double /*stage_time*/) {}
+  virtual double forces(Model&, double /*stage_time*/) { return 0.0; }
   virtual void velocities(Model&, double /*stage_time*/) {}
   // Stages this condition is active in (empty: all).
   std::vector<std::string> stages;
@@ -76,7 +77,7 @@ class TractionCondition final : public BoundaryCondition {
  public:
   TractionCondition(FaceSelection sel, TimeFunction normal, TimeFunction shear);
   std::string describe() const override;
-  void forces(Model&, double t) override;
+  double forces(Model&, double t) override;
 
  private:
   FaceSelection sel_;
@@ -89,7 +90,7 @@ class QuietCondition final : public BoundaryCondition {
  public:
   QuietCondition(FaceSelection sel, double rho, double cp, double cs);
   std::string describe() const override;
-  void forces(Model&, double t) override;
+  double forces(Model&, double t) override;
 
  private:
   FaceSelection sel_;

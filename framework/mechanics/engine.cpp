@@ -171,7 +171,7 @@ void Engine::step() {
   applied_sum_ = 0.0;
   zone_forces(m_, dt_, damping_.kind == Damping::Kind::rayleigh ? damping_.beta : 0.0);
   contact_forces();
-  for (auto* bc : active_) bc->forces(m_, stage_time_);
+  for (auto* bc : active_) applied_sum_ += bc->forces(m_, stage_time_);
   // Gravity on the physical (unscaled) mass.
   if (m_.gravity.squaredNorm() > 0.0) {
     for (auto& g : m_.gp)
