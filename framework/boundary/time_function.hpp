@@ -1,8 +1,8 @@
 #pragma once
 // Scalar functions of time for boundary conditions (velocities, tractions) and for element paths:
 // a constant, a table from a file, an expression (muparser, variable t), triangular displacement
-// cycles at constant speed, or a sinusoidal displacement. Each knows its displacement integral, so
-// a driven block follows a displacement history exactly up to the time discretisation.
+// cycles at constant speed, or a sinusoidal displacement. Each knows its integral (the
+// displacement of a velocity history), used to check and report driven motions.
 #include <memory>
 #include <string>
 #include <vector>

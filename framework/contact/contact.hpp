@@ -10,6 +10,7 @@
 // its joint-law state while the point slides from one edge of the other block to the next.
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <unordered_map>
 #include <vector>
 
@@ -49,7 +50,7 @@ struct Contact {
   double s = 0.0;       // parameter along that edge (0..1) of the projection
   Vec2 normal = Vec2::UnitY();  // unit normal, from the other block toward the point
   double length = 0.0;  // contact length [m]; stresses times length give forces per metre
-  double overlap = 0.0; // geometric overlap, rounding length minus distance (>0 touching) [m]
+  double overlap = 0.0; // minus the signed distance to the other block's (rounded) boundary [m]
   int joint = 0;        // index of the joint model in ContactStore::models
   double pretouch_gap = 0.0;     // >0: found within the detection distance but not yet touching;
                                  // the joint law starts when this gap has closed [m]
@@ -71,6 +72,7 @@ class ContactStore {
   std::vector<std::unique_ptr<JointModel>> models;
   std::vector<std::string> model_names;  // the case-file names of the joint models
   std::vector<JointAssignment> assignments;
+  std::vector<std::string> group_names;  // block-group names by index, for messages
   double rounding = 1e-3;         // corner rounding length d [m]
   double tolerance = 0.0;         // extra detection distance beyond d [m]
 

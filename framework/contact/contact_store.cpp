@@ -11,8 +11,13 @@ int ContactStore::model_for(int group_a, int group_b) const {
     const bool swapped = (a.group_a < 0 || a.group_a == group_b) && (a.group_b < 0 || a.group_b == group_a);
     if (direct || swapped) return a.model;
   }
-  throw InputError("no joint model is assigned between block groups " + std::to_string(group_a) +
-                   " and " + std::to_string(group_b) + "; add a [[joints]] entry covering them");
+  auto name = [&](int g) {
+    return g >= 0 && g < static_cast<int>(group_names.size()) ? "'" + group_names[static_cast<std::size_t>(g)] + "'"
+                                                              : std::to_string(g);
+  };
+  throw InputError("blocks of groups " + name(group_a) + " and " + name(group_b) +
+                   " came into contact, but no joint model is assigned between them; add a [[joints]] entry with "
+                   "between = [" + name(group_a) + ", " + name(group_b) + "] (or \"*\" for any group)");
 }
 
 std::size_t ContactStore::merge(std::vector<Contact>&& found) {

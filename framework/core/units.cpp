@@ -35,8 +35,8 @@ constexpr std::array kUnits{
     UnitDef{"m/s2", Dimension::acceleration, 1.0}, UnitDef{"m/s^2", Dimension::acceleration, 1.0},
     UnitDef{"g", Dimension::acceleration, 9.80665},
     UnitDef{"kg/m3", Dimension::density, 1.0},     UnitDef{"kg/m^3", Dimension::density, 1.0},
-    UnitDef{"g/cm3", Dimension::density, 1000.0},  UnitDef{"Hz", Dimension::frequency, 1.0}, UnitDef{"rad/s", Dimension::frequency, 1.0},
-    UnitDef{"1/s", Dimension::frequency, 1.0},
+    UnitDef{"g/cm3", Dimension::density, 1000.0},  UnitDef{"Hz", Dimension::frequency, 1.0},
+    UnitDef{"rad/s", Dimension::angular_velocity, 1.0}, UnitDef{"deg/s", Dimension::angular_velocity, kDeg},
     UnitDef{"J/m2", Dimension::energy_per_area, 1.0},
     UnitDef{"J/m^2", Dimension::energy_per_area, 1.0},
     UnitDef{"N", Dimension::force, 1.0},           UnitDef{"kN", Dimension::force, 1e3},
@@ -63,6 +63,7 @@ std::string_view dimension_name(Dimension d) {
     case Dimension::acceleration: return "acceleration";
     case Dimension::density: return "density";
     case Dimension::frequency: return "frequency";
+    case Dimension::angular_velocity: return "angular velocity";
     case Dimension::energy_per_area: return "energy per area";
     case Dimension::force: return "force";
   }
@@ -81,6 +82,7 @@ std::string_view si_unit(Dimension d) {
     case Dimension::acceleration: return "m/s^2";
     case Dimension::density: return "kg/m^3";
     case Dimension::frequency: return "Hz";
+    case Dimension::angular_velocity: return "rad/s";
     case Dimension::energy_per_area: return "J/m^2";
     case Dimension::force: return "N";
   }
@@ -98,7 +100,8 @@ std::string_view units_for(Dimension d) {
     case Dimension::velocity: return "m/s, mm/s, mm/min";
     case Dimension::acceleration: return "m/s2, g";
     case Dimension::density: return "kg/m3, g/cm3";
-    case Dimension::frequency: return "Hz, rad/s, 1/s";
+    case Dimension::frequency: return "Hz";
+    case Dimension::angular_velocity: return "rad/s, deg/s";
     case Dimension::energy_per_area: return "J/m2";
     case Dimension::force: return "N, kN, MN";
   }

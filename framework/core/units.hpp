@@ -17,7 +17,8 @@ enum class Dimension {
   velocity,        // m/s
   acceleration,    // m/s^2
   density,         // kg/m^3
-  frequency,       // Hz
+  frequency,       // Hz (cycles per second)
+  angular_velocity,// rad/s (spin)
   energy_per_area, // J/m^2
   force,           // N
 };

@@ -150,6 +150,9 @@ struct Reader {
     const auto* body = v.as_table();
     if (!body) throw InputError(at(v, key + "." + kind) + ": expected a table");
     const std::string path = key + "." + kind;
+    if ((kind == "cycles" || kind == "sine") && d != Dimension::velocity)
+      throw InputError(at(v, path) + ": '" + kind + "' describes a displacement path and drives velocities; for a " +
+                       std::string(dimension_name(d)) + " use a constant, file or expression");
     if (kind == "cycles") {
       check_keys(*body, path, {"amplitude", "speed", "number", "one_sided"});
       return TimeFunction::cycles(positive(*body, "amplitude", Dimension::length, path),
@@ -246,8 +249,11 @@ Case build(const toml::table& root, const Reader& r) {
 
   // [model]
   double rounding = 0.5e-3, tolerance = 1e-3;
+  for (const char* key : {"model", "time", "direct_shear", "output"})
+    if (const toml::node* n = root.get(key); n && !n->is_table())
+      throw InputError(r.at(*n, key) + ": expected a table, written [" + std::string(key) + "]");
   if (const auto* t = root["model"].as_table()) {
-    r.check_keys(*t, "model", {"rounding", "detection_tolerance", "gravity", "thickness"});
+    r.check_keys(*t, "model", {"rounding", "detection_tolerance", "gravity"});
     rounding = r.positive(*t, "rounding", Dimension::length, "model", rounding);
     tolerance = r.quantity(*t, "detection_tolerance", Dimension::length, "model", tolerance);
     if (const auto* g = r.array(*t, "gravity")) {
@@ -269,6 +275,8 @@ Case build(const toml::table& root, const Reader& r) {
     c.settings.fixed_dt = r.quantity(*t, "fixed_dt", Dimension::time, "time", 0.0);
     c.settings.mass_scaling_dt = r.quantity(*t, "mass_scaling_dt", Dimension::time, "time", 0.0);
     c.settings.refresh_interval = static_cast<int>(r.integer(*t, "refresh_interval", "time", 10));
+    if (c.settings.refresh_interval < 1)
+      throw InputError(r.at(*t->get("refresh_interval"), "time.refresh_interval") + ": must be a positive number of steps");
     c.settings.velocity_limit = r.positive(*t, "velocity_limit", Dimension::velocity, "time", 1e3);
   }
 
@@ -378,7 +386,12 @@ Case build(const toml::table& root, const Reader& r) {
         mesh = mesh_rectangle(rx0, ry0, rw, rh, static_cast<int>(*nx), static_cast<int>(*ny));
       } else {
         const double h = r.positive(*t, "zone_size", Dimension::length, path);
-        if (is_rect && r.str(*t, "mesh", path, std::string("structured")) == "structured") {
+        const std::string mesh_kind = r.str(*t, "mesh", path, std::string(is_rect ? "structured" : "unstructured"));
+        if (mesh_kind != "structured" && mesh_kind != "unstructured")
+          throw InputError(r.at(*t->get("mesh"), path + ".mesh") + ": unknown mesh '" + mesh_kind + "'; valid: structured (rectangles), unstructured");
+        if (mesh_kind == "structured" && !is_rect)
+          throw InputError(r.at(*t->get("mesh"), path + ".mesh") + ": a structured mesh needs rectangle = [...]; use mesh = \"unstructured\" for polygons");
+        if (mesh_kind == "structured") {
           mesh = mesh_rectangle(rx0, ry0, rw, rh, std::max(1, static_cast<int>(std::lround(rw / h))),
                                 std::max(1, static_cast<int>(std::lround(rh / h))));
         } else {
@@ -403,6 +416,8 @@ Case build(const toml::table& root, const Reader& r) {
                          " m^2); blocks may touch but not overlap");
     }
 
+  m.contacts.group_names.resize(groups.size());
+  for (const auto& [g, i] : groups) m.contacts.group_names[static_cast<std::size_t>(i)] = g;
   for (const auto& pj : pending) {
     auto ga = groups.find(pj.a), gb = groups.find(pj.b);
     const bool any_a = pj.a == "*", any_b = pj.b == "*";
@@ -427,6 +442,9 @@ Case build(const toml::table& root, const Reader& r) {
     if (sel.points.empty())
       throw InputError(r.at_table(*t, path) + ": face '" + face + "' of block '" + m.blocks[block].name + "' has no gridpoints");
     const bool rigid = m.blocks[block].rigid;
+    if (rigid && t->contains("face") && (type == "fixed" || type == "velocity"))
+      throw InputError(r.at(*t->get("face"), path + ".face") + ": block '" + m.blocks[block].name +
+                       "' is rigid; a " + type + " condition acts on the whole rigid block, so leave out 'face'");
     std::unique_ptr<BoundaryCondition> bc;
     if (type == "fixed") {
       bool fx = true, fy = true;
@@ -439,12 +457,18 @@ Case build(const toml::table& root, const Reader& r) {
           else throw InputError(r.at(e, path + ".components") + ": unknown component '" + s + "'; valid: x, y");
         }
       }
-      bc = std::make_unique<FixedCondition>(sel, fx, fy, rigid);
+      if (rigid && !(fx && fy)) {
+        // Holding one component of a rigid block: a zero velocity on that component only.
+        bc = std::make_unique<VelocityCondition>(sel, true, fx ? std::optional(TimeFunction::constant(0.0)) : std::nullopt,
+                                                 fy ? std::optional(TimeFunction::constant(0.0)) : std::nullopt, std::nullopt);
+      } else {
+        bc = std::make_unique<FixedCondition>(sel, fx, fy, rigid);
+      }
     } else if (type == "velocity") {
       std::optional<TimeFunction> vx, vy, spin;
       if (const auto* n = t->get("vx")) vx = r.time_function(*n, Dimension::velocity, path + ".vx");
       if (const auto* n = t->get("vy")) vy = r.time_function(*n, Dimension::velocity, path + ".vy");
-      if (const auto* n = t->get("spin")) spin = r.time_function(*n, Dimension::frequency, path + ".spin");
+      if (const auto* n = t->get("spin")) spin = r.time_function(*n, Dimension::angular_velocity, path + ".spin");
       if (!vx && !vy && !spin) throw InputError(r.at_table(*t, path) + ": a velocity condition needs vx, vy or spin");
       if (spin && !rigid) throw InputError(r.at(*t->get("spin"), path + ".spin") + ": spin applies to rigid blocks only");
       bc = std::make_unique<VelocityCondition>(sel, rigid, vx, vy, spin);
@@ -542,6 +566,10 @@ Case build(const toml::table& root, const Reader& r) {
       else if (comp == "rotation" && h.quantity == HistorySpec::Quantity::block_displacement) h.component = 2;
       else throw InputError(r.at(*t->get("component"), path + ".component") + ": unknown component '" + comp + "'; valid: x, y" +
                             (h.quantity == HistorySpec::Quantity::block_displacement ? ", rotation" : ""));
+      if ((h.quantity == HistorySpec::Quantity::block_displacement || h.quantity == HistorySpec::Quantity::block_velocity) &&
+          !m.blocks[h.block].rigid)
+        throw InputError(r.at(*t->get("quantity"), path + ".quantity") + ": '" + q + "' is for rigid blocks; block '" +
+                         m.blocks[h.block].name + "' is deformable: use face_displacement");
       if (h.quantity == HistorySpec::Quantity::face_displacement) {
         const std::string face = r.str(*t, "face", path);
         h.points = select_face(m, h.block, face_direction(face, r.at(*t->get("face"), path + ".face"))).points;

@@ -59,7 +59,7 @@ struct DirectShearSpec {
 
 struct OutputSpec {
   long history_interval = 100;  // steps between history samples
-  long vtk_interval = 0;        // steps between VTK frames (0: automatic, about 50 per stage)
+  long vtk_interval = 0;        // steps between VTK frames (0: automatic, about 25 per stage)
   double progress_seconds = 2.0;
 };
 

@@ -25,7 +25,7 @@ struct Damping {
 
 struct EngineSettings {
   double dt_safety = 0.5;       // fraction of the critical time step 2 sqrt(m/k)
-  double fixed_dt = 0.0;        // >0: use this time step (checked against the critical one)
+  double fixed_dt = 0.0;        // >0: use this time step as given (an unstable choice is caught as a runaway)
   double mass_scaling_dt = 0.0; // >0: scale inertial masses so this time step is stable
   int refresh_interval = 10;    // steps between contact detections
   DetectionSettings detection;

@@ -59,7 +59,6 @@ rectangle = ["-20 mm", "6 mm", "20 mm", "88 mm"]
 [[boundary]]
 type = "fixed"
 block = "bottom"
-face = "all"
 components = ["x", "y"]
 [[boundary]]
 type = "traction"
