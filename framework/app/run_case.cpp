@@ -29,7 +29,7 @@ std::string human_seconds(double s) {
 // Samples the case's histories and, for direct-shear cases, the measurement-format columns.
 class Recorder {
  public:
-  Recorder(const Case& c, const Engine& e, const fs::path& out) : c_(c), e_(e) {
+  Recorder(const Case& c, const Engine& e, const fs::path& history_file) : c_(c), e_(e) {
     stage_id_ = h_.define("stage", "", "index of the stage (1-based)");
     for (const auto& s : c.histories) h_.define(s.name, s.unit, s.description);
     if (c.direct_shear.enabled) {
@@ -37,7 +37,7 @@ class Recorder {
       ds_[1] = h_.define("joint_shear_displacement", "m", "loading-block displacement in the shear stage");
       ds_[2] = h_.define("joint_normal_displacement", "m", "top-block bottom face minus bottom-block top face, mean vertical displacement");
     }
-    h_.open((out / "history.h5").string());
+    h_.open(history_file.string());
   }
 
   void stage_started(int index, const std::string& name) {
@@ -124,17 +124,32 @@ class Recorder {
 
 }  // namespace
 
-RunResult run_case(Case& c, const fs::path& out, bool quiet) {
+RunResult run_case(Case& c, const fs::path& out, bool quiet, const std::string& restart) {
   fs::create_directories(out);
+  std::size_t first_stage = 0;
+  if (!restart.empty()) {
+    const auto extra = read_checkpoint(c.model, restart);
+    const auto it = extra.find("stages_completed");
+    if (it == extra.end() || it->second < 1 || it->second > static_cast<double>(c.stages.size()))
+      throw InputError(restart + ": not a stage checkpoint of this case (valid: the stage_<n>_<name>.h5 files a run of it writes)");
+    first_stage = static_cast<std::size_t>(it->second);
+    if (first_stage == c.stages.size()) throw InputError(restart + ": this checkpoint ends the last stage; nothing left to run");
+  }
   Engine engine(c.model, c.settings);
   for (auto& bc : c.conditions) engine.add_condition(std::move(bc));
   c.conditions.clear();
-  Recorder rec(c, engine, out);
+  // A restart never overwrites the history of the run it continues.
+  Recorder rec(c, engine, out / (restart.empty() ? std::string("history.h5")
+                                                 : "history_from_stage_" + std::to_string(first_stage + 1) + ".h5"));
   VtkSeries vtk(out / "vtk");
+  if (!restart.empty()) {
+    vtk.resume(c.model.time);
+    if (!quiet) std::cout << "restarting from " << restart << " after stage " << first_stage << " (time " << c.model.time << " s)\n";
+  }
   const auto wall0 = std::chrono::steady_clock::now();
   if (!quiet) std::cout << "rockdem: " << c.title << "\n  case: " << c.file << "\n  output: " << out.string() << "\n";
   try {
-    for (std::size_t si = 0; si < c.stages.size(); ++si) {
+    for (std::size_t si = first_stage; si < c.stages.size(); ++si) {
       const StageSpec& st = c.stages[si];
       engine.begin_stage(st.name, st.damping);
       rec.stage_started(static_cast<int>(si) + 1, st.name);
@@ -197,6 +212,8 @@ RunResult run_case(Case& c, const fs::path& out, bool quiet) {
       }
       rec.sample();
       vtk.write(c.model);
+      write_checkpoint(c.model, (out / ("stage_" + std::to_string(si + 1) + "_" + st.name + ".h5")).string(),
+                       {{"stages_completed", static_cast<double>(si + 1)}});
     }
   } catch (const InstabilityError& e) {
     engine.restore(engine.last_good());
@@ -210,7 +227,7 @@ RunResult run_case(Case& c, const fs::path& out, bool quiet) {
   write_checkpoint(c.model, (out / "final_state.h5").string());
   rec.close();
   fs::path csv;
-  if (c.direct_shear.enabled) {
+  if (c.direct_shear.enabled && !rec.lab().rows.empty()) {
     auto& f = rec.lab();
     f.metadata = {{"specimen", c.direct_shear.specimen},
                   {"joint_length_m", std::to_string(c.direct_shear.joint_length)},

@@ -16,6 +16,9 @@ struct RunResult {
 // Run all stages of `c`, writing outputs into `out`. Throws InputError for problems found while
 // running (e.g. no joint model for two blocks that touch) and InstabilityError after writing the
 // last good state.
-RunResult run_case(Case& c, const std::filesystem::path& out, bool quiet);
+// A checkpoint is written at the end of every stage (<out>/stage_<n>_<name>.h5, with the number of
+// completed stages); `restart` names one to continue from: the model state is read back and the
+// run goes on with the next stage, repeating exactly what the uninterrupted run would do.
+RunResult run_case(Case& c, const std::filesystem::path& out, bool quiet, const std::string& restart = "");
 
 }  // namespace rockdem

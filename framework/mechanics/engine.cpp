@@ -42,6 +42,25 @@ void Engine::begin_stage(const std::string& name, const Damping& d) {
       bc->setup(m_);
     }
   refresh_contacts();
+  // The damping reference starts from the blocks' present motion, so that a stage depends only on
+  // the model state it starts from (a run restarted from a stage checkpoint repeats it exactly).
+  const std::size_t nb = m_.blocks.size();
+  smooth_v_.assign(nb, Vec2::Zero());
+  smooth_w_.assign(nb, 0.0);
+  std::vector<double> mass(nb, 0.0);
+  for (const auto& g : m_.gp)
+    if (!m_.blocks[g.block].rigid) {
+      smooth_v_[g.block] += g.mass * g.v;
+      mass[g.block] += g.mass;
+    }
+  for (std::size_t b = 0; b < nb; ++b) {
+    if (m_.blocks[b].rigid) {
+      smooth_v_[b] = m_.blocks[b].vc;
+      smooth_w_[b] = m_.blocks[b].omega;
+    } else if (mass[b] > 0.0) {
+      smooth_v_[b] /= mass[b];
+    }
+  }
   last_good_ = snapshot();
 }
 
@@ -241,10 +260,6 @@ void Engine::integrate() {
     for (std::size_t b = 0; b < nb; ++b)
       for (int d = 0; d < 2; ++d)
         if (mass_sum_[b][d] > 0.0) mean_v_[b][d] /= mass_sum_[b][d];
-  }
-  if (smooth_v_.size() != nb) {
-    smooth_v_.assign(nb, Vec2::Zero());
-    smooth_w_.assign(nb, 0.0);
   }
   const double w = 1.0 / kDampingWindow;
   for (std::size_t b = 0; b < nb; ++b) {
