@@ -9,6 +9,8 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <string>
+#include <unistd.h>
 #include <iostream>
 #include <numbers>
 
@@ -27,7 +29,7 @@ struct Branch {
 // Forward (us increasing) and reverse branches of the joint record.
 std::pair<Branch, Branch> run(const std::string& file, const std::string& tag) {
   Case c = load_case(std::string(ROCKDEM_SOURCE_DIR) + "/cases/direct_shear/" + file);
-  const auto out = std::filesystem::temp_directory_path() / ("rockdem_test_ds_" + tag);
+  const auto out = std::filesystem::temp_directory_path() / ("rockdem_test_ds_" + tag + "_" + std::to_string(::getpid()));
   RunResult r = run_case(c, out, true);
   std::filesystem::remove_all(out);
   Branch f, b;

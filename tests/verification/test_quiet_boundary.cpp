@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <string>
+#include <unistd.h>
 #include <iostream>
 
 #include "framework/app/run_case.hpp"
@@ -58,7 +60,7 @@ quantity = "kinetic_energy"
 history_interval = 5
 )TOML";
   Case c = load_case_text(text, "quiet-boundary test", ".");
-  const auto out = std::filesystem::temp_directory_path() / "rockdem_test_quiet";
+  const auto out = std::filesystem::temp_directory_path() / ("rockdem_test_quiet_" + std::to_string(::getpid()));
   RunResult r = run_case(c, out, true);
   std::filesystem::remove_all(out);
   const auto ke = r.history.values(r.history.id("ke"));

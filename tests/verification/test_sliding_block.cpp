@@ -5,6 +5,8 @@
 
 #include <cmath>
 #include <filesystem>
+#include <string>
+#include <unistd.h>
 #include <iostream>
 #include <numbers>
 #include <sstream>
@@ -49,7 +51,7 @@ struct Slide {
 
 Slide run(const std::string& text, const std::string& name) {
   Case c = load_case_text(text, name, ".");
-  const auto out = std::filesystem::temp_directory_path() / ("rockdem_test_" + name);
+  const auto out = std::filesystem::temp_directory_path() / ("rockdem_test_" + name + "_" + std::to_string(::getpid()));
   RunResult r = run_case(c, out, true);
   const History& h = r.history;
   const auto stage = h.values(h.id("stage"));
