@@ -170,6 +170,9 @@ RunResult run_case(Case& c, const fs::path& out, bool quiet, const std::string& 
         std::cout << "stage " << si + 1 << "/" << c.stages.size() << " '" << st.name << "': time step " << engine.dt()
                   << " s, " << (st.until == StageSpec::Until::equilibrium ? "until equilibrium" : std::to_string(planned) + " steps")
                   << ", " << c.model.contacts.items.size() << " contacts\n";
+      if (!quiet)
+        for (const auto& bc : engine.conditions())
+          if (bc->active_in(st.name)) std::cout << "  " << bc->describe(c.model) << "\n";
       vtk.write(c.model);
       rec.sample();
       auto last_print = std::chrono::steady_clock::now();

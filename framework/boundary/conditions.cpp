@@ -44,9 +44,10 @@ FaceSelection select_face(const Model& m, int block, const Vec2& dir) {
 FixedCondition::FixedCondition(FaceSelection sel, bool fix_x, bool fix_y, bool whole)
     : sel_(std::move(sel)), fx_(fix_x), fy_(fix_y), rigid_(whole) {}
 
-std::string FixedCondition::describe() const {
+std::string FixedCondition::describe(const Model& m) const {
   std::ostringstream os;
-  os << "fixed " << (fx_ ? "x" : "") << (fy_ ? "y" : "") << " on " << (rigid_ ? "rigid block" : std::to_string(sel_.points.size()) + " gridpoints");
+  os << "fixed " << (fx_ ? "x" : "") << (fy_ ? "y" : "") << " on block '" << m.blocks[sel_.block].name << "'"
+     << (rigid_ ? std::string() : " (" + std::to_string(sel_.points.size()) + " gridpoints)");
   return os.str();
 }
 
@@ -78,8 +79,8 @@ VelocityCondition::VelocityCondition(FaceSelection sel, bool whole, std::optiona
                                      std::optional<TimeFunction> vy, std::optional<TimeFunction> spin)
     : sel_(std::move(sel)), rigid_(whole), vx_(std::move(vx)), vy_(std::move(vy)), spin_(std::move(spin)) {}
 
-std::string VelocityCondition::describe() const {
-  std::string s = "velocity";
+std::string VelocityCondition::describe(const Model& m) const {
+  std::string s = "velocity on block '" + m.blocks[sel_.block].name + "':";
   if (vx_) s += " vx: " + vx_->describe();
   if (vy_) s += " vy: " + vy_->describe();
   if (spin_) s += " spin: " + spin_->describe();
@@ -124,8 +125,9 @@ double VelocityCondition::duration() const {
 TractionCondition::TractionCondition(FaceSelection sel, TimeFunction normal, TimeFunction shear)
     : sel_(std::move(sel)), normal_(std::move(normal)), shear_(std::move(shear)) {}
 
-std::string TractionCondition::describe() const {
-  return "traction normal: " + normal_.describe() + ", shear: " + shear_.describe();
+std::string TractionCondition::describe(const Model& m) const {
+  return "traction on block '" + m.blocks[sel_.block].name + "': normal " + normal_.describe() + ", shear " +
+         shear_.describe();
 }
 
 double TractionCondition::forces(Model& m, double t) {
@@ -148,9 +150,9 @@ double TractionCondition::forces(Model& m, double t) {
 QuietCondition::QuietCondition(FaceSelection sel, double rho, double cp, double cs)
     : sel_(std::move(sel)), rho_(rho), cp_(cp), cs_(cs) {}
 
-std::string QuietCondition::describe() const {
+std::string QuietCondition::describe(const Model& m) const {
   std::ostringstream os;
-  os << "quiet boundary rho*Cp = " << rho_ * cp_ << ", rho*Cs = " << rho_ * cs_;
+  os << "quiet boundary on block '" << m.blocks[sel_.block].name << "': rho*Cp = " << rho_ * cp_ << ", rho*Cs = " << rho_ * cs_;
   return os.str();
 }
 

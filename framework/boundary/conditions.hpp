@@ -30,7 +30,8 @@ Vec2 face_direction(const std::string& name, const std::string& where);
 class BoundaryCondition {
  public:
   virtual ~BoundaryCondition() = default;
-  virtual std::string describe() const = 0;
+  // One line for progress output, naming the block.
+  virtual std::string describe(const Model& m) const = 0;
   virtual void setup(Model&) {}
   virtual double forces(Model&, double /*stage_time*/) { return 0.0; }
   virtual void velocities(Model&, double /*stage_time*/) {}
@@ -43,7 +44,7 @@ class BoundaryCondition {
 class FixedCondition final : public BoundaryCondition {
  public:
   FixedCondition(FaceSelection sel, bool fix_x, bool fix_y, bool whole_rigid_block);
-  std::string describe() const override;
+  std::string describe(const Model& m) const override;
   void setup(Model&) override;
   void velocities(Model&, double) override;
 
@@ -58,7 +59,7 @@ class VelocityCondition final : public BoundaryCondition {
  public:
   VelocityCondition(FaceSelection sel, bool whole_rigid_block, std::optional<TimeFunction> vx,
                     std::optional<TimeFunction> vy, std::optional<TimeFunction> spin);
-  std::string describe() const override;
+  std::string describe(const Model& m) const override;
   void setup(Model&) override;
   void velocities(Model&, double t) override;
   // Longest finite duration of its velocity histories (0 if none is finite).
@@ -76,7 +77,7 @@ class VelocityCondition final : public BoundaryCondition {
 class TractionCondition final : public BoundaryCondition {
  public:
   TractionCondition(FaceSelection sel, TimeFunction normal, TimeFunction shear);
-  std::string describe() const override;
+  std::string describe(const Model& m) const override;
   double forces(Model&, double t) override;
 
  private:
@@ -89,7 +90,7 @@ class TractionCondition final : public BoundaryCondition {
 class QuietCondition final : public BoundaryCondition {
  public:
   QuietCondition(FaceSelection sel, double rho, double cp, double cs);
-  std::string describe() const override;
+  std::string describe(const Model& m) const override;
   double forces(Model&, double t) override;
 
  private:

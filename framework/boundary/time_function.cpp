@@ -38,9 +38,6 @@ TimeFunction TimeFunction::table(std::vector<double> t, std::vector<double> v, d
   f.v_ = std::move(v);
   f.b_ = value_after;
   f.text_ = origin;
-  f.cum_.assign(f.t_.size(), 0.0);
-  for (std::size_t i = 1; i < f.t_.size(); ++i)
-    f.cum_[i] = f.cum_[i - 1] + 0.5 * (f.v_[i] + f.v_[i - 1]) * (f.t_[i] - f.t_[i - 1]);
   return f;
 }
 
@@ -66,8 +63,8 @@ TimeFunction TimeFunction::from_file(const std::string& path, double time_scale,
   }
   if (t.size() < 2) throw InputError(path + ": a time history needs at least two rows");
   if (!derivative) return table(std::move(t), std::move(v), v.back(), path);
-  // Displacement history -> velocity: piecewise constant slope, sampled at segment midpoints so
-  // that the integral reproduces the displacements at the table's times exactly.
+  // Displacement history -> velocity: the piecewise constant slope of each segment, so that the
+  // driven displacement passes through the table's points.
   std::vector<double> tv, vv;
   for (std::size_t i = 1; i < t.size(); ++i) {
     const double dt = t[i] - t[i - 1];
@@ -78,9 +75,7 @@ TimeFunction TimeFunction::from_file(const std::string& path, double time_scale,
     tv.push_back(t[i]);
     vv.push_back(vel);
   }
-  auto f = table(std::move(tv), std::move(vv), 0.0, path);
-  f.a_ = v.front();  // displacement at t = 0 is added by integral()
-  return f;
+  return table(std::move(tv), std::move(vv), 0.0, path);
 }
 
 TimeFunction TimeFunction::expression(const std::string& expr) {
@@ -130,17 +125,7 @@ double TimeFunction::duration() const {
 }
 
 namespace {
-// Triangular cycle: position within one cycle of period T made of legs of duration A/V.
-double cycle_disp(double t, double a, double v, bool one_sided) {
-  const double leg = a / v;
-  const double period = (one_sided ? 2.0 : 4.0) * leg;
-  const double tau = std::fmod(t, period);
-  const double x = tau / leg;  // legs elapsed
-  if (x < 1.0) return a * x;
-  if (x < 2.0) return a * (2.0 - x);
-  if (x < 3.0) return -a * (x - 2.0);
-  return -a * (4.0 - x);
-}
+// Velocity of a triangular cycle of amplitude a at speed v (legs of duration a/v).
 double cycle_vel(double t, double a, double v, bool one_sided) {
   const double leg = a / v;
   const double period = (one_sided ? 2.0 : 4.0) * leg;
@@ -171,33 +156,6 @@ double TimeFunction::operator()(double t) const {
     case Kind::sine:
       if (t < 0.0 || t >= duration()) return 0.0;
       return a_ * 2.0 * std::numbers::pi * b_ * std::cos(2.0 * std::numbers::pi * b_ * t);
-  }
-  return 0.0;
-}
-
-double TimeFunction::integral(double t) const {
-  switch (kind_) {
-    case Kind::constant: return a_ * t;
-    case Kind::table: {
-      if (t <= t_.front()) return a_ + v_.front() * (t - t_.front()) * (t < t_.front() ? 0.0 : 1.0);
-      if (t >= t_.back()) return a_ + cum_.back() + b_ * (t - t_.back());
-      const auto it = std::upper_bound(t_.begin(), t_.end(), t);
-      const std::size_t i = static_cast<std::size_t>(it - t_.begin());
-      const double vt = (*this)(t);
-      return a_ + cum_[i - 1] + 0.5 * (v_[i - 1] + vt) * (t - t_[i - 1]);
-    }
-    case Kind::expression: {
-      const int n = 10000;
-      double s = 0.0;
-      const double h = t / n;
-      for (int i = 0; i < n; ++i) s += 0.5 * h * ((*this)(i * h) + (*this)((i + 1) * h));
-      return s;
-    }
-    case Kind::cycles:
-      if (t >= duration()) return 0.0;
-      return t <= 0.0 ? 0.0 : cycle_disp(t, a_, b_, one_sided_);
-    case Kind::sine:
-      return a_ * std::sin(2.0 * std::numbers::pi * b_ * std::clamp(t, 0.0, duration()));
   }
   return 0.0;
 }

@@ -1,8 +1,7 @@
 #pragma once
 // Scalar functions of time for boundary conditions (velocities, tractions) and for element paths:
 // a constant, a table from a file, an expression (muparser, variable t), triangular displacement
-// cycles at constant speed, or a sinusoidal displacement. Each knows its integral (the
-// displacement of a velocity history), used to check and report driven motions.
+// cycles at constant speed, or a sinusoidal displacement.
 #include <memory>
 #include <string>
 #include <vector>
@@ -29,8 +28,6 @@ class TimeFunction {
   static TimeFunction sine(double amplitude, double frequency, double number);
 
   double operator()(double t) const;  // value (velocity for motion histories)
-  double integral(double t) const;    // integral from 0 to t (displacement); exact for all kinds
-                                      // but expression (trapezoid on 1e4 steps per call)
   double duration() const;            // time after which the history is finished (inf if none)
   Kind kind() const { return kind_; }
   std::string describe() const;
@@ -40,7 +37,7 @@ class TimeFunction {
   double a_ = 0.0, b_ = 0.0, c_ = 0.0;
   int n_ = 0;
   bool one_sided_ = false;
-  std::vector<double> t_, v_, cum_;
+  std::vector<double> t_, v_;
   std::string text_;
   struct Expr;
   std::shared_ptr<Expr> expr_;
