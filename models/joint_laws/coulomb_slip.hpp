@@ -1,33 +1,29 @@
 #pragma once
-#include "models/joint_laws/joint_law.hpp"
+#include <limits>
+
+#include "models/joint_laws/mohr_coulomb.hpp"
 
 namespace rockdem {
 
+// coulomb_slip: the Mohr-Coulomb joint without dilation (Cundall & Hart 1985; the UDEC Coulomb
+// slip joint): linear elastic, tau <= c + sigma_n tan(phi), tensile strength, residual cohesion and
+// tension after failure. It is the same law as mohr_coulomb with psi = 0, so it runs the same code:
+// only its parameter list is shorter.
 struct CoulombSlip {
   static constexpr const char* name = "coulomb_slip";
-  struct Params {
-    double kn;        // [Pa/m]
-    double ks;        // [Pa/m]
-    double friction;  // [rad]
-    double cohesion;  // [Pa]
-    double tension;   // [Pa]
-    bool residual_after_failure;
+  struct Params : MohrCoulomb::Params {
+    Params() {
+      dilation_angle = 0.0;
+      critical_shear_disp = std::numeric_limits<double>::infinity();
+      dilation = 0;
+    }
     static std::vector<Param<Params>> spec();
   };
-  struct State {
-    double sigma_n;       // [Pa] compression positive
-    double tau;           // [Pa]
-    double u_s;           // shear offset from the mated position [m]
-    double u_n;           // normal displacement, opening positive [m]
-    double gap;           // opening beyond the touching point while open (>0) [m]
-    double plastic_slip;  // accumulated |plastic shear| [m]
-    double dilation;      // accumulated dilation from effects [m]
-    double cohesion;      // current cohesion (drops to zero on failure) [Pa]
-    double tension;       // current tensile strength [Pa]
-  };
-  static void init(const Params& p, State& s);
-  static void update(const Params& p, State& s, const JointKinematics& k, JointResponse& r,
-                     EffectChain& chain);
+  using State = MohrCoulomb::State;
+  static void init(const Params& p, State& s) { MohrCoulomb::init(p, s); }
+  static void update(const Params& p, State& s, const JointKinematics& k, JointResponse& r, EffectChain& chain) {
+    MohrCoulomb::update(p, s, k, r, chain);
+  }
   static double initial_kn(const Params& p) { return p.kn; }
   static double initial_ks(const Params& p) { return p.ks; }
 };
