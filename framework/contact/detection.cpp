@@ -5,6 +5,8 @@
 #include <limits>
 #include <unordered_map>
 
+#include "framework/geometry/polygon.hpp"
+
 namespace rockdem {
 namespace {
 
@@ -32,16 +34,7 @@ double project(const Vec2& p, const Vec2& a, const Vec2& b) {
 }
 
 bool inside_polygon(const Model& m, const Block& b, const Vec2& p) {
-  bool in = false;
-  const std::size_t n = b.boundary.size();
-  for (std::size_t i = 0, j = n - 1; i < n; j = i++) {
-    const Vec2& a = m.gp[b.boundary[i]].x;
-    const Vec2& c = m.gp[b.boundary[j]].x;
-    if (((a.y() > p.y()) != (c.y() > p.y())) &&
-        (p.x() < (c.x() - a.x()) * (p.y() - a.y()) / (c.y() - a.y()) + a.x()))
-      in = !in;
-  }
-  return in;
+  return crossing_number_inside(p, b.boundary.size(), [&](std::size_t i) -> const Vec2& { return m.gp[b.boundary[i]].x; });
 }
 
 struct Projection {

@@ -177,17 +177,8 @@ PointLocation locate_point(const Vec2& q, const Polygon& p, double tol) {
     if (tol > 0.0 ? point_segment_distance(q, a, b) <= tol : on_segment_exact(q, a, b))
       return PointLocation::boundary;
   }
-  // Crossing number with the half-open rule (an edge counts if it spans q.y in [ymin, ymax)).
-  bool inside = false;
-  for (size_t i = 0, j = n - 1; i < n; j = i++) {
-    const Vec2& a = p[i];
-    const Vec2& b = p[j];
-    if ((a.y() > q.y()) != (b.y() > q.y())) {
-      const double x = a.x() + (q.y() - a.y()) * (b.x() - a.x()) / (b.y() - a.y());
-      if (q.x() < x) inside = !inside;
-    }
-  }
-  return inside ? PointLocation::inside : PointLocation::outside;
+  return crossing_number_inside(q, n, [&](size_t i) -> const Vec2& { return p[i]; }) ? PointLocation::inside
+                                                                                      : PointLocation::outside;
 }
 
 std::vector<std::array<int, 3>> triangulate_polygon(const Polygon& p_in) {

@@ -41,6 +41,22 @@ bool is_simple(const Polygon& p, double tol = 0.0);
 enum class PointLocation { outside, boundary, inside };
 // Location of `q` relative to a simple polygon; within `tol` (a length) of an edge is `boundary`.
 PointLocation locate_point(const Vec2& q, const Polygon& p, double tol = 0.0);
+
+// Crossing-number test (half-open rule: an edge counts if it spans q.y in [ymin, ymax)) on a loop of
+// n vertices given by `vertex(i)`, so that callers holding indices (block boundaries) need no copy.
+template <class Vertex>
+bool crossing_number_inside(const Vec2& q, std::size_t n, Vertex&& vertex) {
+  bool inside = false;
+  for (std::size_t i = 0, j = n - 1; i < n; j = i++) {
+    const Vec2& a = vertex(i);
+    const Vec2& b = vertex(j);
+    if ((a.y() > q.y()) != (b.y() > q.y())) {
+      const double x = a.x() + (q.y() - a.y()) * (b.x() - a.x()) / (b.y() - a.y());
+      if (q.x() < x) inside = !inside;
+    }
+  }
+  return inside;
+}
 inline bool point_in_polygon(const Vec2& q, const Polygon& p) {
   return locate_point(q, p, 0.0) == PointLocation::inside;
 }
