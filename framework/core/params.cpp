@@ -43,30 +43,33 @@ void check_range(const ParamInfo& info, double v, const std::string& where, cons
   }
 }
 
-double parse_real(const ParamInfo& info, const RawValue& raw, const std::string& owner) {
+double quantity_value(const RawValue& raw, Dimension d, const std::string& subject) {
   double v = 0.0;
   if (const auto* s = std::get_if<std::string>(&raw.value)) {
     try {
-      v = parse_quantity(*s, info.dim);
+      return parse_quantity(*s, d);
     } catch (const InputError& e) {
-      throw InputError(raw.where + ": parameter '" + info.name + "' of " + owner + ": " + e.what());
+      throw InputError(raw.where + ": " + subject + ": " + e.what());
     }
-  } else if (const auto* d = std::get_if<double>(&raw.value)) {
-    v = *d;
+  } else if (const auto* x = std::get_if<double>(&raw.value)) {
+    v = *x;
   } else if (const auto* i = std::get_if<std::int64_t>(&raw.value)) {
     v = static_cast<double>(*i);
   } else {
-    throw InputError(raw.where + ": parameter '" + info.name + "' of " + owner +
-                     " must be a number" +
-                     (info.dim == Dimension::dimensionless ? std::string() :
-                      " with a unit, as a string like \"1.5 " + std::string(si_unit(info.dim)) + "\""));
+    throw InputError(raw.where + ": " + subject + " must be a number" +
+                     (d == Dimension::dimensionless ? std::string() :
+                      " with a unit, as a string like \"1.5 " + std::string(si_unit(d)) + "\""));
   }
-  if (!std::holds_alternative<std::string>(raw.value) && info.dim != Dimension::dimensionless) {
-    throw InputError(raw.where + ": parameter '" + info.name + "' of " + owner + " = " + num(v) +
-                     " has no unit; a " + std::string(dimension_name(info.dim)) +
-                     " is written as a string with one of: " + std::string(units_for(info.dim)) +
-                     " (e.g. \"" + num(v) + " " + std::string(si_unit(info.dim)) + "\")");
+  if (d != Dimension::dimensionless) {
+    throw InputError(raw.where + ": " + subject + " = " + num(v) + " has no unit; a " +
+                     std::string(dimension_name(d)) + " is written as a string with one of: " +
+                     std::string(units_for(d)) + " (e.g. \"" + num(v) + " " + std::string(si_unit(d)) + "\")");
   }
+  return v;
+}
+
+double parse_real(const ParamInfo& info, const RawValue& raw, const std::string& owner) {
+  const double v = quantity_value(raw, info.dim, "parameter '" + info.name + "' of " + owner);
   check_range(info, v, raw.where, owner);
   return v;
 }

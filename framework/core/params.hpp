@@ -103,6 +103,9 @@ ParamBuilder<P> integer(std::string name, int P::*m, int default_value, std::str
   return ParamBuilder<P>(p);
 }
 
+// A physical quantity from a raw value: a string "<number> <unit>" of dimension `d`, or a plain
+// number where `d` is dimensionless. `subject` names it in messages ("parameter 'kn' of ...").
+double quantity_value(const RawValue& raw, Dimension d, const std::string& subject);
 // Parse one raw value for a parameter (unit conversion and range check). `owner` names the law,
 // effect or block the parameter belongs to, for messages.
 double parse_real(const ParamInfo& info, const RawValue& raw, const std::string& owner);

@@ -67,22 +67,7 @@ struct Reader {
   }
 
   double quantity(const toml::node& n, Dimension d, const std::string& key) const {
-    if (const auto* s = n.as_string()) {
-      try {
-        return parse_quantity(s->get(), d);
-      } catch (const InputError& e) {
-        throw InputError(at(n, key) + ": " + e.what());
-      }
-    }
-    double v = 0.0;
-    if (const auto* f = n.as_floating_point()) v = f->get();
-    else if (const auto* i = n.as_integer()) v = static_cast<double>(i->get());
-    else throw InputError(at(n, key) + ": expected a number" + (d == Dimension::dimensionless ? "" : " with a unit"));
-    if (d != Dimension::dimensionless)
-      throw InputError(at(n, key) + ": value " + std::to_string(v) + " has no unit; a " +
-                       std::string(dimension_name(d)) + " is written as a string with one of: " +
-                       std::string(units_for(d)));
-    return v;
+    return quantity_value(raw_value(n, file, key), d, "value");
   }
   double quantity(const toml::table& t, const std::string& key, Dimension d, const std::string& path,
                   std::optional<double> def = std::nullopt) const {
