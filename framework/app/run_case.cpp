@@ -42,13 +42,17 @@ class Recorder {
 
   void stage_started(int index, const std::string& name) {
     stage_ = index;
-    in_shear_ = c_.direct_shear.enabled && name == c_.direct_shear.shear_stage;
-    if (in_shear_) {
-      const Model& m = c_.model;
-      loader_x0_ = m.blocks[c_.direct_shear.loader].xc.x();
-      normal0_ = normal_disp();
-      t0_ = m.time;
-    }
+    test_stage_ = 0;
+    if (!c_.direct_shear.enabled) return;
+    const auto& names = c_.direct_shear.shear_stages;
+    const auto it = std::find(names.begin(), names.end(), name);
+    if (it == names.end()) return;
+    test_stage_ = static_cast<int>(it - names.begin()) + 1;
+    const Model& m = c_.model;
+    loader_x0_ = m.blocks[c_.direct_shear.loader].xc.x();
+    normal0_ = normal_disp();
+    // The file's time runs from the start of the first shear stage and never goes back.
+    if (std::isnan(t0_)) t0_ = m.time;
   }
 
   void sample() {
@@ -61,13 +65,13 @@ class Recorder {
       const double us = m.blocks[d.loader].xc.x() - loader_x0_;
       const double un = normal_disp() - normal0_;
       h_.set(ds_[0], tau);
-      h_.set(ds_[1], in_shear_ ? us : 0.0);
-      h_.set(ds_[2], in_shear_ ? un : 0.0);
-      if (in_shear_) {
+      h_.set(ds_[1], test_stage_ ? us : 0.0);
+      h_.set(ds_[2], test_stage_ ? un : 0.0);
+      if (test_stage_) {
         MeasurementRow r;
         r.time_s = m.time - t0_;
-        r.stage = 1;
-        r.normal_stress_MPa = d.normal_stress / 1e6;
+        r.stage = test_stage_;
+        r.normal_stress_MPa = d.normal_stresses[static_cast<std::size_t>(test_stage_ - 1)] / 1e6;
         r.shear_disp_mm = us * 1e3;
         r.shear_stress_MPa = tau / 1e6;
         r.normal_disp_mm = un * 1e3;
@@ -117,8 +121,8 @@ class Recorder {
   int stage_id_ = 0;
   int ds_[3] = {-1, -1, -1};
   int stage_ = 0;
-  bool in_shear_ = false;
-  double loader_x0_ = 0.0, normal0_ = 0.0, t0_ = 0.0;
+  int test_stage_ = 0;  // 1-based test stage of the current shear stage, 0 outside them
+  double loader_x0_ = 0.0, normal0_ = 0.0, t0_ = NAN;
   MeasurementFile lab_;
 };
 
@@ -135,6 +139,15 @@ RunResult run_case(Case& c, const fs::path& out, bool quiet, const std::string& 
     first_stage = static_cast<std::size_t>(it->second);
     if (first_stage == c.stages.size()) throw InputError(restart + ": this checkpoint ends the last stage; nothing left to run");
   }
+  // Joint models in force at each stage: the case's, replaced by a stage's `joints` values from
+  // that stage on (also when a restart begins in the middle of the list).
+  const auto case_joint_models = c.model.contacts.models;
+  auto put_joint_models_in_force = [&](std::size_t stage) {
+    c.model.contacts.models = case_joint_models;
+    for (std::size_t s = 0; s <= stage; ++s)
+      for (const auto& [index, model] : c.stages[s].joint_models) c.model.contacts.models[static_cast<std::size_t>(index)] = model;
+  };
+  if (first_stage < c.stages.size()) put_joint_models_in_force(first_stage);
   Engine engine(c.model, c.settings);
   for (auto& bc : c.conditions) engine.add_condition(std::move(bc));
   c.conditions.clear();
@@ -151,6 +164,7 @@ RunResult run_case(Case& c, const fs::path& out, bool quiet, const std::string& 
   try {
     for (std::size_t si = first_stage; si < c.stages.size(); ++si) {
       const StageSpec& st = c.stages[si];
+      put_joint_models_in_force(si);
       engine.begin_stage(st.name, st.damping);
       rec.stage_started(static_cast<int>(si) + 1, st.name);
       double duration = st.duration;
@@ -237,6 +251,7 @@ RunResult run_case(Case& c, const fs::path& out, bool quiet, const std::string& 
                   {"source", "rockdem"},
                   {"model", "dem"},
                   {"case", c.file}};
+    for (const auto& kv : c.direct_shear.metadata) f.metadata.push_back(kv);
     csv = out / (c.direct_shear.specimen + ".csv");
     write_measurement_csv(csv.string(), f);
   }

@@ -69,7 +69,9 @@ struct JointAssignment {
 class ContactStore {
  public:
   std::vector<Contact> items;
-  std::vector<std::unique_ptr<JointModel>> models;
+  // Shared so that a stage can put in force other parameter values of the same law (the per-stage
+  // rows of the report's Table 4-2) while the contacts keep their state.
+  std::vector<std::shared_ptr<const JointModel>> models;
   std::vector<std::string> model_names;  // the case-file names of the joint models
   std::vector<JointAssignment> assignments;
   std::vector<std::string> group_names;  // block-group names by index, for messages

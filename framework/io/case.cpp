@@ -291,6 +291,13 @@ Case build(const toml::table& root, const Reader& r) {
     int model;
   };
   std::vector<PendingJoint> pending;
+  // What a stage needs to build the same joint with other parameter values.
+  struct JointDefinition {
+    std::string name, law;
+    RawValues params;
+    std::vector<EffectSpec> effects;
+  };
+  std::vector<JointDefinition> joint_defs;
   for (const auto* t : r.tables(root, "joints")) {
     const std::string name = r.str(*t, "name", "joints");
     const std::string path = "joints." + name;
@@ -315,9 +322,10 @@ Case build(const toml::table& root, const Reader& r) {
       }
     }
     const int index = static_cast<int>(m.contacts.models.size());
-    m.contacts.models.push_back(make_joint_model(law, raw_values(*t, r.file, path, {"name", "law", "between", "effects"}), effects,
-                                                 r.at(*t->get("law"), path + ".law")));
+    RawValues params = raw_values(*t, r.file, path, {"name", "law", "between", "effects"});
+    m.contacts.models.push_back(make_joint_model(law, params, effects, r.at(*t->get("law"), path + ".law")));
     m.contacts.model_names.push_back(name);
+    joint_defs.push_back({name, law, std::move(params), effects});
     pending.push_back({r.str(*between->get(0), path + ".between"), r.str(*between->get(1), path + ".between"), index});
   }
 
@@ -483,7 +491,28 @@ Case build(const toml::table& root, const Reader& r) {
     s.name = r.str(*t, "name", "stages");
     const std::string path = "stages." + s.name;
     r.check_keys(*t, path, {"name", "damping", "local_damping", "damping_ratio", "damping_frequency", "until",
-                            "duration", "steps", "ratio", "max_steps"});
+                            "duration", "steps", "ratio", "max_steps", "joints"});
+    // joints = { <joint name> = { <parameters that change> } }: from this stage on the joint has
+    // these values (the others as in [[joints]]); its contacts keep their state.
+    if (const auto* jn = t->get("joints")) {
+      const auto* jt = jn->as_table();
+      if (!jt) throw InputError(r.at(*jn, path + ".joints") + ": expected a table { <joint name> = { <parameter> = <value>, ... } }");
+      for (const auto& [k, v] : *jt) {
+        const std::string jname(k.str());
+        auto def = std::find_if(joint_defs.begin(), joint_defs.end(), [&](const JointDefinition& d) { return d.name == jname; });
+        if (def == joint_defs.end()) {
+          std::string valid;
+          for (const auto& d : joint_defs) valid += (valid.empty() ? "" : ", ") + d.name;
+          throw InputError(r.at(v, path + ".joints." + jname) + ": no joint named '" + jname + "'; joints: " + valid);
+        }
+        const auto* vt = v.as_table();
+        if (!vt) throw InputError(r.at(v, path + ".joints." + jname) + ": expected a table of parameter values");
+        RawValues merged = def->params;
+        for (auto& [pk, pv] : raw_values(*vt, r.file, path + ".joints." + jname)) merged[pk] = pv;
+        s.joint_models.emplace_back(static_cast<int>(def - joint_defs.begin()),
+                                    make_joint_model(def->law, merged, def->effects, r.at(v, path + ".joints." + jname)));
+      }
+    }
     s.damping = read_damping(r, *t, path);
     const std::string until = r.str(*t, "until", path, std::string("duration"));
     if (until == "equilibrium") {
@@ -567,7 +596,8 @@ Case build(const toml::table& root, const Reader& r) {
   // [direct_shear]
   if (const auto* t = root["direct_shear"].as_table()) {
     const std::string path = "direct_shear";
-    r.check_keys(*t, path, {"specimen", "joint_length", "loader", "top", "bottom", "normal_stress", "shear_stage"});
+    r.check_keys(*t, path, {"specimen", "joint_length", "loader", "top", "bottom", "normal_stress", "shear_stage",
+                            "normal_stresses", "shear_stages"});
     auto& d = c.direct_shear;
     d.enabled = true;
     d.specimen = r.str(*t, "specimen", path);
@@ -575,10 +605,29 @@ Case build(const toml::table& root, const Reader& r) {
     d.loader = c.block_index(r.str(*t, "loader", path), r.at(r.need(*t, "loader", path), path + ".loader"));
     d.top = c.block_index(r.str(*t, "top", path), r.at(r.need(*t, "top", path), path + ".top"));
     d.bottom = c.block_index(r.str(*t, "bottom", path), r.at(r.need(*t, "bottom", path), path + ".bottom"));
-    d.normal_stress = r.positive(*t, "normal_stress", Dimension::stress, path);
-    d.shear_stage = r.str(*t, "shear_stage", path);
-    if (!stage_names.count(d.shear_stage))
-      throw InputError(r.at(*t->get("shear_stage"), path + ".shear_stage") + ": no stage named '" + d.shear_stage + "'");
+    // One test stage (shear_stage, normal_stress) or several (shear_stages, normal_stresses).
+    const bool single = t->get("shear_stage") || t->get("normal_stress");
+    const bool multi = t->get("shear_stages") || t->get("normal_stresses");
+    if (single == multi)
+      throw InputError(r.at_table(*t, path) + ": give either shear_stage and normal_stress (one test stage) or the lists "
+                       "shear_stages and normal_stresses (one entry per test stage), not both");
+    if (single) {
+      d.normal_stresses.push_back(r.positive(*t, "normal_stress", Dimension::stress, path));
+      d.shear_stages.push_back(r.str(*t, "shear_stage", path));
+    } else {
+      const auto* sa = r.array(*t, "shear_stages");
+      const auto* na = r.array(*t, "normal_stresses");
+      if (!sa || !na || sa->size() != na->size() || sa->empty())
+        throw InputError(r.at_table(*t, path) + ": shear_stages and normal_stresses must be lists of the same, non-zero length");
+      for (const auto& e : *sa) d.shear_stages.push_back(r.str(e, path + ".shear_stages"));
+      for (const auto& e : *na) d.normal_stresses.push_back(r.quantity(e, Dimension::stress, path + ".normal_stresses"));
+    }
+    for (const auto& s : d.shear_stages)
+      if (!stage_names.count(s)) {
+        std::string valid;
+        for (const auto& n : stage_names) valid += (valid.empty() ? "" : ", ") + n;
+        throw InputError(r.at_table(*t, path) + ": no stage named '" + s + "'; stages: " + valid);
+      }
     d.top_face = select_face(m, d.top, {0, -1}).points;
     d.bottom_face = select_face(m, d.bottom, {0, 1}).points;
     if (!m.blocks[d.loader].rigid) throw InputError(r.at(*t->get("loader"), path + ".loader") + ": the loading block must be rigid");
@@ -623,6 +672,10 @@ Case load_case(const std::string& path) {
 
 Case load_case_text(const std::string& text, const std::string& name, const std::string& base_dir) {
   return parse(text, name, base_dir, false);
+}
+
+Case load_case_table(const toml::table& root, const std::string& name, const std::string& base_dir) {
+  return build(root, Reader{name, base_dir});
 }
 
 }  // namespace rockdem

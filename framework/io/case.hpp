@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include <toml++/toml.h>
+
 #include "framework/boundary/conditions.hpp"
 #include "framework/mechanics/engine.hpp"
 #include "framework/mechanics/model.hpp"
@@ -23,6 +25,9 @@ struct StageSpec {
   long steps = 0;
   double ratio = 1e-5;       // unbalanced-force ratio for `equilibrium`
   long max_steps = 1000000;  // cap for `equilibrium`
+  // Joint models put in force from this stage on (same law and effects, other parameter values;
+  // the contacts keep their state): (index in ContactStore::models, model).
+  std::vector<std::pair<int, std::shared_ptr<const JointModel>>> joint_models;
 };
 
 // One named history quantity.
@@ -47,14 +52,17 @@ struct HistorySpec {
 // shear stress = contact force of the loading block over the nominal joint length; shear
 // displacement = loading-block displacement; normal displacement = mean vertical displacement of
 // the top block's bottom gridpoints minus that of the bottom block's top gridpoints.
+// A test of several normal-stress stages lists one shear stage per test stage; each is numbered in
+// the file (1, 2, ...) with its shear and normal displacements measured from that stage's start.
 struct DirectShearSpec {
   bool enabled = false;
   std::string specimen;
   double joint_length = 0.2032;
   int loader = -1, top = -1, bottom = -1;
   std::vector<int> top_face, bottom_face;
-  double normal_stress = 0.0;  // applied on the top face, for the file's column [Pa]
-  std::string shear_stage;     // stage whose samples are written
+  std::vector<std::string> shear_stages;  // case stages whose samples are written, in test order
+  std::vector<double> normal_stresses;    // applied on the top face in each, for the file [Pa]
+  std::vector<std::pair<std::string, std::string>> metadata;  // extra '# key: value' lines
 };
 
 struct OutputSpec {
@@ -81,5 +89,7 @@ struct Case {
 // (the built-in default case).
 Case load_case(const std::string& path);
 Case load_case_text(const std::string& text, const std::string& name, const std::string& base_dir);
+// A case already parsed (or built in code, e.g. the direct-shear specimen of a laboratory test).
+Case load_case_table(const toml::table& root, const std::string& name, const std::string& base_dir);
 
 }  // namespace rockdem

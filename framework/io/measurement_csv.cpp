@@ -3,6 +3,7 @@
 // calibration without anybody noticing, so every rule violation stops with file, line and rule.
 #include "framework/io/measurement_csv.hpp"
 
+#include <algorithm>
 #include <array>
 #include <charconv>
 #include <cmath>
@@ -105,20 +106,14 @@ void write_measurement_csv(const std::string& path, const MeasurementFile& f) {
   if (!ok) throw InputError(path + ": write failed (disk full or no permission?)");
 }
 
-MeasurementFile read_measurement_csv(const std::string& path) {
+CsvTable read_csv_table(const std::string& path, const std::vector<std::string>& required, const std::string& what) {
   std::ifstream in(path);
-  if (!in) throw InputError(path + ": cannot open measurement file (missing or unreadable)");
-  MeasurementFile f;
+  if (!in) throw InputError(path + ": cannot open " + what + " (missing or unreadable)");
+  CsvTable f;
   std::string line;
   int lineno = 0;
   bool have_header = false;
-  std::array<int, 6> col{};  // position of each standard column in the header
-  std::vector<int> extra_pos;
-  std::size_t ncols = 0;
   std::vector<std::string_view> fields;
-  std::vector<double> values;
-  double last_time = -std::numeric_limits<double>::infinity();
-  int last_stage = 0;
   auto fail = [&](const std::string& rule) -> InputError {
     return InputError(path + ":" + std::to_string(lineno) + ": " + rule);
   };
@@ -140,74 +135,92 @@ MeasurementFile read_measurement_csv(const std::string& path) {
     }
     split(s, fields);
     if (!have_header) {
-      col.fill(-1);
-      for (std::size_t i = 0; i < fields.size(); ++i) {
-        bool standard = false;
-        for (std::size_t c = 0; c < kColumns.size(); ++c) {
-          if (fields[i] == kColumns[c]) {
-            if (col[c] >= 0) throw fail("column '" + std::string(kColumns[c]) + "' appears twice in the header");
-            col[c] = static_cast<int>(i);
-            standard = true;
-          }
-        }
-        if (!standard) {
-          if (fields[i].empty()) throw fail("empty column name in the header");
-          extra_pos.push_back(static_cast<int>(i));
-          f.extra_columns.emplace_back(fields[i]);
-        }
+      for (const auto& name : fields) {
+        if (name.empty()) throw fail("empty column name in the header");
+        if (f.column(std::string(name)) >= 0) throw fail("column '" + std::string(name) + "' appears twice in the header");
+        f.columns.emplace_back(name);
       }
-      for (std::size_t c = 0; c < kColumns.size(); ++c) {
-        if (col[c] < 0) {
+      for (const auto& r : required) {
+        if (f.column(r) < 0) {
           std::string all;
-          for (auto k : kColumns) {
-            if (!all.empty()) all += ',';
-            all += k;
-          }
-          throw fail("missing column '" + std::string(kColumns[c]) + "' in the header; required columns: " + all);
+          for (const auto& k : required) all += (all.empty() ? "" : ",") + k;
+          throw fail("missing column '" + r + "' in the header; required columns: " + all);
         }
       }
-      ncols = fields.size();
       have_header = true;
       continue;
     }
-    if (fields.size() != ncols) {
+    if (fields.size() != f.columns.size()) {
       throw fail("row has " + std::to_string(fields.size()) + " fields, the header has " +
-                 std::to_string(ncols));
+                 std::to_string(f.columns.size()));
     }
-    values.assign(ncols, 0.0);
-    for (std::size_t i = 0; i < ncols; ++i) {
+    std::vector<double> values(fields.size());
+    for (std::size_t i = 0; i < fields.size(); ++i) {
       const std::string_view v = fields[i];
       double x = 0.0;
       const char* b = v.data();
       const char* e = v.data() + v.size();
       if (!v.empty() && *b == '+') ++b;  // from_chars rejects a leading '+'
       auto [ptr, ec] = std::from_chars(b, e, x);
-      std::string colname = "?";
-      for (std::size_t c = 0; c < kColumns.size(); ++c)
-        if (col[c] == static_cast<int>(i)) colname = std::string(kColumns[c]);
-      for (std::size_t j = 0; j < extra_pos.size(); ++j)
-        if (extra_pos[j] == static_cast<int>(i)) colname = f.extra_columns[j];
       if (v.empty() || ec != std::errc() || ptr != e) {
-        throw fail("non-numeric value '" + std::string(v) + "' in column '" + colname + "'");
+        throw fail("non-numeric value '" + std::string(v) + "' in column '" + f.columns[i] + "'");
       }
-      if (std::isnan(x)) throw fail("NaN in column '" + colname + "'; every value must be a number");
-      if (!std::isfinite(x)) throw fail("infinite value in column '" + colname + "'");
+      if (std::isnan(x)) throw fail("NaN in column '" + f.columns[i] + "'; every value must be a number");
+      if (!std::isfinite(x)) throw fail("infinite value in column '" + f.columns[i] + "'");
       values[i] = x;
     }
+    f.rows.push_back(std::move(values));
+    f.lines.push_back(lineno);
+  }
+  if (!have_header) {
+    std::string all;
+    for (const auto& k : required) all += (all.empty() ? "" : ",") + k;
+    throw InputError(path + ":" + std::to_string(lineno) + ": no header line found; the header names the columns " + all);
+  }
+  return f;
+}
+
+int CsvTable::column(const std::string& name) const {
+  for (std::size_t i = 0; i < columns.size(); ++i)
+    if (columns[i] == name) return static_cast<int>(i);
+  return -1;
+}
+
+MeasurementFile read_measurement_csv(const std::string& path) {
+  const CsvTable t = read_csv_table(path, std::vector<std::string>(kColumns.begin(), kColumns.end()), "measurement file");
+  MeasurementFile f;
+  f.metadata = t.metadata;
+  std::array<std::size_t, 6> col{};
+  for (std::size_t c = 0; c < kColumns.size(); ++c) col[c] = static_cast<std::size_t>(t.column(std::string(kColumns[c])));
+  std::vector<std::size_t> extra_pos;
+  for (std::size_t i = 0; i < t.columns.size(); ++i)
+    if (std::find(kColumns.begin(), kColumns.end(), t.columns[i]) == kColumns.end()) {
+      extra_pos.push_back(i);
+      f.extra_columns.push_back(t.columns[i]);
+    }
+  double last_time = -std::numeric_limits<double>::infinity();
+  int last_stage = 0;
+  f.rows.reserve(t.rows.size());
+  f.extra.reserve(t.rows.size());
+  for (std::size_t k = 0; k < t.rows.size(); ++k) {
+    const auto& values = t.rows[k];
+    auto fail = [&](const std::string& rule) -> InputError {
+      return InputError(path + ":" + std::to_string(t.lines[k]) + ": " + rule);
+    };
     MeasurementRow r{};
-    r.time_s = values[static_cast<std::size_t>(col[0])];
-    const double stage = values[static_cast<std::size_t>(col[1])];
-    r.normal_stress_MPa = values[static_cast<std::size_t>(col[2])];
-    r.shear_disp_mm = values[static_cast<std::size_t>(col[3])];
-    r.shear_stress_MPa = values[static_cast<std::size_t>(col[4])];
-    r.normal_disp_mm = values[static_cast<std::size_t>(col[5])];
+    r.time_s = values[col[0]];
+    const double stage = values[col[1]];
+    r.normal_stress_MPa = values[col[2]];
+    r.shear_disp_mm = values[col[3]];
+    r.shear_stress_MPa = values[col[4]];
+    r.normal_disp_mm = values[col[5]];
     if (stage != std::floor(stage) || stage < 1.0 || stage > 1e6) {
-      throw fail("stage must be a positive integer (1, 2, ...), found " + std::string(fields[static_cast<std::size_t>(col[1])]));
+      throw fail("stage must be a positive integer (1, 2, ...), found " + std::to_string(stage));
     }
     r.stage = static_cast<int>(stage);
     if (r.time_s < last_time) {
-      throw fail("time going backwards: time_s = " + std::string(fields[static_cast<std::size_t>(col[0])]) +
-                 " after " + std::to_string(last_time) + "; time_s must be non-decreasing over the whole file");
+      throw fail("time going backwards: time_s = " + std::to_string(r.time_s) + " after " + std::to_string(last_time) +
+                 "; time_s must be non-decreasing over the whole file");
     }
     if (r.stage < last_stage) {
       throw fail("stage " + std::to_string(r.stage) + " after stage " + std::to_string(last_stage) +
@@ -217,12 +230,8 @@ MeasurementFile read_measurement_csv(const std::string& path) {
     last_stage = r.stage;
     f.rows.push_back(r);
     std::vector<double> ex(extra_pos.size());
-    for (std::size_t j = 0; j < extra_pos.size(); ++j) ex[j] = values[static_cast<std::size_t>(extra_pos[j])];
+    for (std::size_t j = 0; j < extra_pos.size(); ++j) ex[j] = values[extra_pos[j]];
     f.extra.push_back(std::move(ex));
-  }
-  if (!have_header) {
-    throw InputError(path + ":" + std::to_string(lineno) + ": no header line found; the header names the columns " +
-                     "time_s,stage,normal_stress_MPa,shear_disp_mm,shear_stress_MPa,normal_disp_mm");
   }
   return f;
 }

@@ -31,4 +31,17 @@ void write_measurement_csv(const std::string& path, const MeasurementFile& f);
 // file, the line and the rule; nothing is silently dropped.
 MeasurementFile read_measurement_csv(const std::string& path);
 
+// A numeric CSV table with '# key: value' metadata lines before its header: the reader behind
+// the measurement format, also used for drive tables (time_s, shear_disp_mm). Every row must have
+// as many numeric, finite fields as the header; `required` columns must be in the header.
+// Errors name the file, the line and the rule; `what` names the kind of file in messages.
+struct CsvTable {
+  std::vector<std::pair<std::string, std::string>> metadata;
+  std::vector<std::string> columns;
+  std::vector<std::vector<double>> rows;
+  std::vector<int> lines;  // file line of each row
+  int column(const std::string& name) const;  // index, -1 if absent
+};
+CsvTable read_csv_table(const std::string& path, const std::vector<std::string>& required, const std::string& what);
+
 }  // namespace rockdem
