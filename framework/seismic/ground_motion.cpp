@@ -1,0 +1,217 @@
+#include "framework/seismic/ground_motion.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "framework/core/error.hpp"
+#include "framework/core/units.hpp"
+
+namespace rockdem::seismic {
+namespace {
+
+std::string_view trim(std::string_view s) {
+  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
+  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.remove_suffix(1);
+  return s;
+}
+
+std::vector<std::string_view> split(std::string_view line, bool csv) {
+  std::vector<std::string_view> out;
+  if (csv) {
+    std::size_t start = 0;
+    for (std::size_t i = 0; i <= line.size(); ++i) {
+      if (i == line.size() || line[i] == ',') {
+        out.push_back(trim(line.substr(start, i - start)));
+        start = i + 1;
+      }
+    }
+    return out;
+  }
+  std::size_t i = 0;
+  while (i < line.size()) {
+    while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+    const std::size_t b = i;
+    while (i < line.size() && !std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+    if (i > b) out.push_back(line.substr(b, i - b));
+  }
+  return out;
+}
+
+std::optional<double> to_number(std::string_view s) {
+  if (!s.empty() && s.front() == '+') s.remove_prefix(1);
+  double v = 0.0;
+  const auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+  if (ec != std::errc() || ptr != s.data() + s.size() || s.empty()) return std::nullopt;
+  return v;
+}
+
+}  // namespace
+
+AccelerationUnit parse_acceleration_unit(std::string_view text) {
+  const std::string_view t = trim(text);
+  const bool has_number = !t.empty() && (std::isdigit(static_cast<unsigned char>(t.front())) || t.front() == '.');
+  try {
+    // A bare unit is the size of one such unit; a quantity is taken as written.
+    const double v = parse_quantity(has_number ? std::string(t) : "1 " + std::string(t), Dimension::acceleration);
+    if (!(v > 0.0) || !std::isfinite(v)) throw InputError("it must be positive");
+    return {v, std::string(t)};
+  } catch (const InputError& e) {
+    throw InputError("acceleration unit '" + std::string(text) + "': " + e.what() + "; valid: a unit (" +
+                     std::string(units_for(Dimension::acceleration)) +
+                     ") or the size of one record unit as a quantity, e.g. \"9.81 m/s^2\"");
+  }
+}
+
+std::size_t peak_index(const std::vector<double>& x) {
+  std::size_t k = 0;
+  for (std::size_t i = 1; i < x.size(); ++i)
+    if (std::abs(x[i]) > std::abs(x[k])) k = i;
+  return k;
+}
+
+GroundMotion load_ground_motion(const std::string& path, const RecordLayout& layout) {
+  std::ifstream in(path);
+  if (!in) {
+    throw InputError(path + ": cannot open the record (" +
+                     (std::filesystem::exists(path) ? "not readable" : "no such file") + ")");
+  }
+  if (layout.time_column < 0) {
+    throw InputError(path + ": time column " + std::to_string(layout.time_column) +
+                     " is invalid; valid: 0 (no time column, give dt) or a column number from 1");
+  }
+  if (layout.time_column == 0 && !(layout.dt && *layout.dt > 0.0)) {
+    throw InputError(path +
+                     ": the record has no time column (time column 0), so a positive time step dt is "
+                     "required");
+  }
+  bool csv = std::filesystem::path(path).extension() == ".csv";
+  std::vector<std::string> header;
+  std::size_t ncols = 0, acc_col = 0;  // 0-based
+  int header_line = 0;
+  std::vector<double> tt, aa;
+  std::vector<int> line_of;
+  std::string line;
+  int ln = 0;
+  bool first = true, resolved = false;
+  const std::string where_prefix = path + ":";
+  while (std::getline(in, line)) {
+    ++ln;
+    std::string_view s = trim(line);
+    if (s.empty() || s.front() == '#') continue;
+    const std::string where = where_prefix + std::to_string(ln);
+    if (first) {
+      csv = csv || s.find(',') != std::string_view::npos;
+      auto fields = split(s, csv);
+      if (!to_number(fields.front())) {  // a header line
+        for (auto f : fields) header.emplace_back(f);
+        header_line = ln;
+        first = false;
+        ncols = fields.size();
+        continue;
+      }
+    }
+    auto fields = split(s, csv);
+    first = false;
+    if (!resolved) {
+      resolved = true;
+      if (!header.empty() && fields.size() != header.size()) {
+        throw InputError(where + ": " + std::to_string(fields.size()) + " columns, but the header on line " +
+                         std::to_string(header_line) + " names " + std::to_string(header.size()) +
+                         "; header and data lines must have the same columns");
+      }
+      ncols = fields.size();
+      // Resolve the acceleration column once the width of the file is known.
+      const std::string& c = layout.column;
+      const std::string valid =
+          "valid: a column number 1.." + std::to_string(ncols) + (header.empty() ? std::string() : " or a header name");
+      if (c.empty()) {
+        acc_col = ncols - 1;
+      } else if (auto n = to_number(c); n && std::floor(*n) == *n) {
+        if (*n < 1 || *n > static_cast<double>(ncols)) {
+          throw InputError(where + ": acceleration column " + c + " does not exist; the record has " +
+                           std::to_string(ncols) + " columns (" + valid + ")");
+        }
+        acc_col = static_cast<std::size_t>(*n) - 1;
+      } else {
+        std::size_t k = 0;
+        while (k < header.size() && header[k] != c) ++k;
+        if (k == header.size()) {
+          std::string names;
+          for (const auto& h : header) names += (names.empty() ? "" : ", ") + ("'" + h + "'");
+          throw InputError(
+              path + (header_line ? ":" + std::to_string(header_line) : std::string()) + ": no column named '" + c +
+              "'" + (header.empty() ? " (the record has no header)" : " in the header (" + names + ")") + "; " + valid);
+        }
+        acc_col = k;
+      }
+      if (layout.time_column > static_cast<int>(ncols)) {
+        throw InputError(where + ": time column " + std::to_string(layout.time_column) +
+                         " does not exist; the record has " + std::to_string(ncols) +
+                         " columns (valid: 0 for none, or 1.." + std::to_string(ncols) + ")");
+      }
+      if (layout.time_column > 0 && static_cast<std::size_t>(layout.time_column - 1) == acc_col) {
+        throw InputError(where + ": the acceleration column and the time column are both column " +
+                         std::to_string(acc_col + 1) + "; choose another acceleration column");
+      }
+    }
+    if (fields.size() != ncols) {
+      throw InputError(where + ": " + std::to_string(fields.size()) + " columns, but the record's first line has " +
+                       std::to_string(ncols) + "; every data line must have the same columns");
+    }
+    for (std::size_t k = 0; k < fields.size(); ++k) {
+      const bool used =
+          k == acc_col || (layout.time_column > 0 && k == static_cast<std::size_t>(layout.time_column - 1));
+      if (!used) continue;
+      const auto v = to_number(fields[k]);
+      if (!v || !std::isfinite(*v)) {
+        throw InputError(where + ": column " + std::to_string(k + 1) + " holds '" + std::string(fields[k]) +
+                         "', which is not a finite number; data lines hold numbers only (one header line "
+                         "is allowed before them, comment lines start with #)");
+      }
+      if (k == acc_col)
+        aa.push_back(*v * layout.unit.to_si);
+      else
+        tt.push_back(*v);
+    }
+    line_of.push_back(ln);
+  }
+  if (aa.size() < 2) {
+    throw InputError(path + ": " + std::to_string(aa.size()) + " data line(s); a record needs at least two samples");
+  }
+  GroundMotion g;
+  g.source = path;
+  g.column_name = header.empty() ? "column " + std::to_string(acc_col + 1) : header[acc_col];
+  if (layout.time_column == 0) {
+    g.t0 = 0.0;
+    g.dt = *layout.dt;
+  } else {
+    for (std::size_t i = 1; i < tt.size(); ++i) {
+      if (!(tt[i] > tt[i - 1])) {
+        throw InputError(where_prefix + std::to_string(line_of[i]) + ": time " +
+                         format_quantity(tt[i], Dimension::time) + " is not after the previous sample's " +
+                         format_quantity(tt[i - 1], Dimension::time) + "; times must increase");
+      }
+    }
+    g.t0 = tt.front();
+    g.dt = (tt.back() - tt.front()) / static_cast<double>(tt.size() - 1);
+    // Printed times carry rounding (163.39999), so each sample may stray from the grid by 1e-3 dt.
+    for (std::size_t i = 0; i < tt.size(); ++i) {
+      const double grid = g.t0 + g.dt * static_cast<double>(i);
+      if (std::abs(tt[i] - grid) > 1e-3 * g.dt) {
+        throw InputError(
+            where_prefix + std::to_string(line_of[i]) + ": time " + format_quantity(tt[i], Dimension::time) +
+            " is off the uniform grid t0 + i*dt = " + format_quantity(grid, Dimension::time) +
+            " (t0 = " + format_quantity(g.t0, Dimension::time) + ", dt = " + format_quantity(g.dt, Dimension::time) +
+            " from the first and last samples); a record must be "
+            "sampled uniformly (to 1e-3 dt): resample it first");
+      }
+    }
+  }
+  g.acc = std::move(aa);
+  return g;
+}
+
+}  // namespace rockdem::seismic
