@@ -1,0 +1,103 @@
+#pragma once
+// Model against measurement for single-joint shear records. The two are aligned on shear
+// displacement, not time (the DEM and the laboratory run at different rates): each measured row
+// is matched to the model's value at the same shear displacement within the same stage and the
+// same monotonic segment (first passage, linear interpolation). Errors are then summarised per
+// variable (shear stress [MPa], normal displacement [mm]) overall, per stage, per cycle, per
+// quadrant and per stage x cycle x quadrant:
+//   RMSE, NRMSE = RMSE / (max - min of the measured variable over the whole file),
+//   bias = mean(model - measurement); combined NRMSE = mean of the two variables' NRMSE.
+// Records whose stages or shear paths differ are refused (InputError saying what differs).
+#include <array>
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "framework/analysis/segmentation.hpp"
+#include "framework/io/measurement_csv.hpp"
+
+namespace rockdem {
+
+// The compared variables, in this order everywhere (index 0, 1).
+struct CompareVariable {
+  const char* key;   // JSON key
+  const char* name;  // plain words
+  const char* unit;
+};
+inline constexpr std::array<CompareVariable, 2> kCompareVariables{
+    {{"shear_stress", "shear stress", "MPa"}, {"normal_disp", "normal displacement", "mm"}}};
+double compared_value(const MeasurementRow& r, std::size_t variable);
+
+struct CompareOptions {
+  // Reversal threshold of the measurement's segmentation; the model is cut with the
+  // measurement's per-stage thresholds so that identical paths give identical segments.
+  SegmentationOptions segmentation;
+  // Extremes and turning points may differ by this fraction of the stage's amplitude (max |u|).
+  double endpoint_tolerance = 0.05;
+  // Stage normal stresses (medians) may differ by this fraction (+ 0.01 MPa).
+  double normal_stress_tolerance = 0.10;
+  int worst_lines = 3;            // plain-language lines for the worst segments
+  std::size_t worst_min_rows = 3; // segments with fewer measured rows are not ranked
+};
+
+struct ErrorStats {
+  std::size_t n = 0;
+  double rmse = 0.0, nrmse = 0.0, bias = 0.0;
+  double mean_abs_measured = 0.0;  // mean |measured value|, the reference of percentages
+};
+
+// A group of measured rows; 0 in stage, cycle or quadrant means "all".
+struct ErrorGroup {
+  int stage = 0, cycle = 0, quadrant = 0;
+  std::array<ErrorStats, 2> var{};
+};
+
+// The model's values interpolated at every measured row.
+struct Alignment {
+  std::array<std::vector<double>, 2> model;
+  // Measured rows beyond the ends of the model's matching segment (the model's end value is
+  // used); within the end-point tolerance these are expected, a large count is worth a look.
+  std::size_t outside = 0;
+};
+
+struct Comparison {
+  Segmentation data_segments, model_segments;
+  Alignment alignment;
+  std::array<double, 2> range{};  // of the measured variables over the whole file
+  ErrorGroup overall;
+  std::vector<ErrorGroup> stages, cycles, quadrants, segments;  // segments: stage x cycle x quadrant
+  double combined_nrmse = 0.0;
+  std::vector<std::string> worst;  // plain-language lines, worst first
+};
+
+// Model segmentation options matching a measurement's segmentation (same thresholds).
+SegmentationOptions model_segmentation_options(const Segmentation& data);
+
+// Throws InputError (without file names: callers add them) if the stage lists, normal stresses,
+// first-stroke signs, extremes, number of reversals or turning points differ.
+void check_compatible(const Segmentation& data, const Segmentation& model, const CompareOptions& options = {});
+
+// Interpolates the model at every measured row; the segmentations must be compatible.
+Alignment align(const MeasurementFile& data, const Segmentation& data_segments, const MeasurementFile& model,
+                const Segmentation& model_segments);
+
+// Error groups, combined NRMSE and worst lines from an alignment (fills every field of the
+// result but the two segmentations and the alignment).
+void summarize(const MeasurementFile& data, const Segmentation& data_segments, const Alignment& alignment,
+               const CompareOptions& options, Comparison& out);
+
+// All of the above. The overload with a precomputed data segmentation serves repeated
+// comparisons against one measurement (calibration).
+Comparison compare(const MeasurementFile& data, const MeasurementFile& model, const CompareOptions& options = {});
+Comparison compare(const MeasurementFile& data, const Segmentation& data_segments, const MeasurementFile& model,
+                   const CompareOptions& options = {});
+
+// JSON: nrmse {shear_stress, normal_disp, combined}, overall, stages, cycles, quadrants,
+// segments (flat: one entry per variable and stage x cycle x quadrant), worst, alignment.
+nlohmann::json to_json(const Comparison& c);
+// Compact table for a terminal.
+std::string format_table(const Comparison& c);
+
+}  // namespace rockdem

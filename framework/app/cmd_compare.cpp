@@ -1,0 +1,142 @@
+// `rockdem compare --data MEASURED.csv --model MODEL.csv [--json OUT] [--plot DIR] [--quiet]`:
+// aligns a model record on a measured one by shear displacement (framework/analysis/compare.hpp),
+// prints the error table and the worst segments in words, writes the JSON and, with --plot, the
+// two-panel figure through scripts/plot_compare.py (Debian's /usr/bin/python3, which has
+// matplotlib; the first python3 on PATH may be a virtual environment without it).
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+
+#include "framework/analysis/compare.hpp"
+#include "framework/app/command.hpp"
+#include "framework/core/error.hpp"
+#include "framework/io/measurement_csv.hpp"
+
+extern char** environ;
+
+namespace rockdem {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The plot script: $ROCKDEM_PLOT_COMPARE, else scripts/ next to the build folder holding this
+// binary (build/rockdem -> scripts/), else scripts/ under the current folder.
+fs::path find_plot_script() {
+  if (const char* env = std::getenv("ROCKDEM_PLOT_COMPARE"); env && *env) return env;
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  std::vector<fs::path> tried;
+  if (!ec) {
+    for (fs::path dir = exe.parent_path(); !dir.empty(); dir = dir.parent_path()) {
+      tried.push_back(dir / "scripts" / "plot_compare.py");
+      if (fs::exists(tried.back())) return tried.back();
+      if (dir == dir.root_path()) break;
+    }
+  }
+  tried.push_back(fs::current_path() / "scripts" / "plot_compare.py");
+  if (fs::exists(tried.back())) return tried.back();
+  std::string where;
+  for (const auto& t : tried) where += "\n  " + t.string();
+  throw std::runtime_error("--plot: scripts/plot_compare.py not found (set ROCKDEM_PLOT_COMPARE); looked in:" + where);
+}
+
+int run_python(const std::vector<std::string>& args) {
+  std::vector<char*> argv;
+  for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  pid_t pid = 0;
+  if (posix_spawn(&pid, argv[0], nullptr, nullptr, argv.data(), environ) != 0) {
+    throw std::runtime_error("--plot: cannot start " + args[0] + " (Debian's python3 with python3-matplotlib)");
+  }
+  int status = 0;
+  if (waitpid(pid, &status, 0) < 0) throw std::runtime_error("--plot: lost the plot process");
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 1;
+}
+
+std::string meta(const MeasurementFile& f, const std::string& key) {
+  for (const auto& [k, v] : f.metadata)
+    if (k == key) return v;
+  return {};
+}
+
+const CommandRegistrar reg{Command{
+    "compare", "compare a model record with a measured one (aligned on shear displacement): errors by stage, "
+               "cycle and quadrant",
+    false, [](CLI::App& sub) {
+      auto data = std::make_shared<std::string>();
+      auto model = std::make_shared<std::string>();
+      auto json = std::make_shared<std::string>();
+      auto plot = std::make_shared<std::string>();
+      auto quiet = std::make_shared<bool>(false);
+      auto opt = std::make_shared<CompareOptions>();
+      sub.add_option("--data", *data, "measured record (measurement CSV)")->required();
+      sub.add_option("--model", *model, "model record (measurement CSV, e.g. from rockdem element)")->required();
+      sub.add_option("--json", *json, "write the full comparison as JSON to this file");
+      sub.add_option("--plot", *plot, "write the figure <model name>.png into this folder");
+      sub.add_flag("--quiet", *quiet, "print nothing but errors");
+      sub.add_option("--reversal-fraction", opt->segmentation.reversal_fraction,
+                     "reversal threshold as a fraction of each stage's displacement range")
+          ->check(CLI::Range(1e-6, 0.5))
+          ->capture_default_str();
+      sub.add_option("--endpoint-tolerance", opt->endpoint_tolerance,
+                     "allowed difference of extremes and turning points, fraction of the stage's amplitude")
+          ->check(CLI::Range(0.0, 1.0))
+          ->capture_default_str();
+      return [=]() -> int {
+        const auto t0 = std::chrono::steady_clock::now();
+        const MeasurementFile d = read_measurement_csv(*data);
+        const MeasurementFile m = read_measurement_csv(*model);
+        const auto t1 = std::chrono::steady_clock::now();
+        Comparison c;
+        try {
+          c = compare(d, m, *opt);
+        } catch (const InputError& e) {
+          throw InputError(*data + " vs " + *model + ": " + e.what());
+        }
+        const auto t2 = std::chrono::steady_clock::now();
+        const double ms_read = std::chrono::duration<double, std::milli>(t1 - t0).count();
+        const double ms_cmp = std::chrono::duration<double, std::milli>(t2 - t1).count();
+        if (!json->empty()) {
+          nlohmann::json j = to_json(c);
+          j["data"] = *data;
+          j["model"] = *model;
+          j["specimen"] = meta(d, "specimen");
+          j["data_source"] = meta(d, "source");
+          j["model_description"] = meta(m, "joint_model");
+          std::ofstream out(*json);
+          if (!out) throw InputError(*json + ": cannot open for writing");
+          out << j.dump(2) << '\n';
+          if (!out) throw InputError(*json + ": write failed");
+        }
+        if (!*quiet) {
+          std::printf("compare: %s (%zu rows, %zu stage(s)) vs model %s (%zu rows), aligned on shear displacement\n",
+                      data->c_str(), d.rows.size(), c.data_segments.stages.size(), model->c_str(), m.rows.size());
+          std::printf("%s", format_table(c).c_str());
+          if (c.alignment.outside > 0) {
+            std::printf("note: %zu measured rows lie beyond the ends of the model's matching segment (end value used)\n",
+                        c.alignment.outside);
+          }
+          if (!c.worst.empty()) std::printf("worst segments:\n");
+          for (const auto& w : c.worst) std::printf("  %s\n", w.c_str());
+          std::printf("(read %.1f ms, compared in %.2f ms)\n", ms_read, ms_cmp);
+        }
+        if (!plot->empty()) {
+          fs::create_directories(*plot);
+          const fs::path png = fs::path(*plot) / (fs::path(*model).stem().string() + ".png");
+          const int rc = run_python({"/usr/bin/python3", find_plot_script().string(), *data, *model, "-o", png.string()});
+          if (rc != 0) throw std::runtime_error("--plot: plot_compare.py failed (exit " + std::to_string(rc) + ")");
+          if (!*quiet) std::printf("figure: %s\n", png.c_str());
+        }
+        if (!*quiet && !json->empty()) std::printf("json: %s\n", json->c_str());
+        return 0;
+      };
+    }}};
+
+}  // namespace
+}  // namespace rockdem
