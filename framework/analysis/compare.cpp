@@ -102,7 +102,7 @@ void interpolate(std::size_t db, std::size_t de, const MeasurementFile& model,
   }
 }
 
-std::string worst_line(const ErrorGroup& g, std::size_t v) {
+std::string worst_line(const ErrorGroup& g, std::size_t v, double range) {
   const CompareVariable& var = kCompareVariables[v];
   const ErrorStats& s = g.var[v];
   std::string where = "stage " + std::to_string(g.stage) + ", cycle " + std::to_string(g.cycle) + ", " +
@@ -115,14 +115,18 @@ std::string worst_line(const ErrorGroup& g, std::size_t v) {
   if (std::abs(s.bias) >= 0.5 * s.rmse) {
     std::string line = where + (s.bias > 0 ? "over" : "under") + "-predicted by " + fmt("%.3g", std::abs(s.bias)) +
                        unit;
-    if (s.mean_abs_measured > 0.0) {
+    // A percentage of a near-zero mean (normal displacement near the mated position) says nothing.
+    if (s.mean_abs_measured >= 0.05 * range) {
       line += " (" + fmt("%.0f", 100.0 * std::abs(s.bias) / s.mean_abs_measured) +
               " % of the measured mean magnitude in this segment, " + fmt("%.3g", s.mean_abs_measured) + unit + ")";
+    } else {
+      line += " (the measured values here are near zero: mean magnitude " + fmt("%.3g", s.mean_abs_measured) + unit +
+              ")";
     }
     return line + tail;
   }
   return where + "off by " + fmt("%.3g", s.rmse) + unit + " RMS with little mean bias (" + fmt("%+.3g", s.bias) +
-         unit + ", the shape differs)" + tail;
+         unit + "): scatter or a different shape rather than a level shift" + tail;
 }
 
 nlohmann::json stats_json(const ErrorStats& s) {
@@ -307,7 +311,7 @@ void summarize(const MeasurementFile& data, const Segmentation& dseg, const Alig
   std::stable_sort(cands.begin(), cands.end(), [](const Cand& a, const Cand& b) { return a.nrmse > b.nrmse; });
   out.worst.clear();
   for (std::size_t i = 0; i < cands.size() && static_cast<int>(i) < options.worst_lines; ++i)
-    out.worst.push_back(worst_line(out.segments[cands[i].group], cands[i].var));
+    out.worst.push_back(worst_line(out.segments[cands[i].group], cands[i].var, out.range[cands[i].var]));
 }
 
 Comparison compare(const MeasurementFile& data, const Segmentation& dseg, const MeasurementFile& model,

@@ -1,0 +1,103 @@
+#!/usr/bin/env bash
+# `rockdem compare` on bad input: broken measurement files are rejected with file, line and rule;
+# records with other stages or incompatible shear paths are refused saying what differs; all with
+# exit code 2. A good pair compares with exit 0 and writes the JSON.
+# Usage: bash compare_bad_input.sh <rockdem-binary> <source-dir>
+set -u
+bin=$1
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+fail=0
+header="time_s,stage,normal_stress_MPa,shear_disp_mm,shear_stress_MPa,normal_disp_mm"
+
+# record FILE "STAGE:SIGMA:AMPLITUDE ..." [SHIFT]: one-sided strokes 0 -> AMPLITUDE -> 0 (negative
+# amplitude: the first stroke goes negative), 0.5 mm steps, a simple elastic-plastic stress.
+record() {
+  local file=$1 spec=$2 shift=${3:-0}
+  {
+    echo "# specimen: cli"
+    echo "$header"
+    for s in $spec; do
+      IFS=: read -r st sn a <<<"$s"
+      awk -v st="$st" -v sn="$sn" -v a="$a" -v sh="$shift" -v t0="$st" 'BEGIN {
+        n = int((a < 0 ? -a : a) / 0.5); sg = a < 0 ? -1 : 1
+        for (i = 0; i <= 2 * n; i++) {
+          k = i <= n ? i : 2 * n - i; u = sg * 0.5 * k; up = i <= n ? 1 : -1
+          tau = sg * up * (k < 3 ? 0.6 * k : 1.8) * sn / 3 + sh
+          printf "%.3f,%d,%g,%g,%g,%g\n", 1000 * t0 + i, st, sn, u, tau, 0.01 * k
+        }
+      }'
+    done
+  } >"$file"
+}
+
+# expect NAME CODE ARGS... -- SUBSTRINGS...: runs compare, wants exit CODE and every substring.
+expect() {
+  local name=$1 want_code=$2
+  shift 2
+  local args=()
+  while [ "$1" != "--" ]; do args+=("$1"); shift; done
+  shift
+  local out code
+  out=$("$bin" compare "${args[@]}" 2>&1)
+  code=$?
+  if [ "$code" -ne "$want_code" ]; then
+    echo "FAIL $name: exit $code, wanted $want_code: $out"
+    fail=1
+    return
+  fi
+  for want in "$@"; do
+    if ! grep -qF -- "$want" <<<"$out"; then
+      echo "FAIL $name: output lacks '$want': $out"
+      fail=1
+    fi
+  done
+  echo "ok   $name: $(head -c 300 <<<"$out" | tr '\n' ' ')"
+}
+
+record "$tmp/data.csv" "1:3:10 2:4:10"
+
+# Broken measurement files: the reader names file:line and the rule, compare exits 2.
+printf '# specimen: x\ntime_s,stage,normal_stress_MPa,shear_disp_mm,shear_stress_MPa\n0,1,3,0,0\n' >"$tmp/no_col.csv"
+expect missing_column 2 --data "$tmp/no_col.csv" --model "$tmp/data.csv" -- \
+  "no_col.csv:2:" "missing column 'normal_disp_mm'"
+{ echo "$header"; echo "0,1,3,0,0,0"; echo "1,1,3,0.5,nan,0"; } >"$tmp/nan.csv"
+expect nan_value 2 --data "$tmp/data.csv" --model "$tmp/nan.csv" -- "nan.csv:3:" "NaN in column 'shear_stress_MPa'"
+{ echo "$header"; echo "0,1,3,0,0,0"; echo "2,1,3,0.5,0.1,0"; echo "1,1,3,1,0.2,0"; } >"$tmp/back.csv"
+expect time_backwards 2 --data "$tmp/back.csv" --model "$tmp/data.csv" -- "back.csv:4:" "time going backwards"
+{ echo "$header"; echo "0,1,3,0,0,0"; echo "1,1,3,0.5,abc,0"; } >"$tmp/text.csv"
+expect non_numeric 2 --data "$tmp/text.csv" --model "$tmp/data.csv" -- "text.csv:3:" "non-numeric value 'abc'"
+{ echo "$header"; echo "0,1,3,0,0,0"; echo "1,1,3,0.5,0"; } >"$tmp/short.csv"
+expect short_row 2 --data "$tmp/short.csv" --model "$tmp/data.csv" -- "short.csv:3:" "row has 5 fields, the header has 6"
+expect missing_file 2 --data "$tmp/none.csv" --model "$tmp/data.csv" -- "none.csv" "cannot open measurement file"
+echo "$header" >"$tmp/empty.csv"
+expect no_rows 2 --data "$tmp/empty.csv" --model "$tmp/data.csv" -- "empty.csv vs" "no data rows"
+
+# Incompatible records: refused, saying what differs.
+record "$tmp/one_stage.csv" "1:3:10"
+expect other_stages 2 --data "$tmp/data.csv" --model "$tmp/one_stage.csv" -- \
+  "data.csv vs $tmp/one_stage.csv" "different stages" "measurement has stage(s) 1, 2, the model 1"
+record "$tmp/short_stroke.csv" "1:3:10 2:4:4"
+expect other_amplitude 2 --data "$tmp/data.csv" --model "$tmp/short_stroke.csv" -- \
+  "stage 2: different shear paths" "measurement spans +0 .. +10 mm, the model +0 .. +4 mm"
+record "$tmp/negative.csv" "1:3:10 2:4:-10"
+expect opposite_sign 2 --data "$tmp/data.csv" --model "$tmp/negative.csv" -- \
+  "stage 2: opposite first strokes" "toward the positive side, the model toward the negative side"
+record "$tmp/sigma.csv" "1:3:10 2:6:10"
+expect other_normal_stress 2 --data "$tmp/data.csv" --model "$tmp/sigma.csv" -- \
+  "stage 2: different normal stress" "the measurement 4 MPa, the model 6 MPa"
+{ cat "$tmp/data.csv"; } >"$tmp/two_cycles.csv"
+awk -F, 'NR > 2 && $2 == 2 { printf "%.3f,%s,%s,%s,%s,%s\n", $1 + 500, $2, $3, $4, $5, $6 }' "$tmp/data.csv" \
+  >>"$tmp/two_cycles.csv"
+expect other_cycles 2 --data "$tmp/data.csv" --model "$tmp/two_cycles.csv" -- \
+  "stage 2: different shear paths" "measurement has 1 reversal (1 cycle), the model 3 reversals (2 cycles)"
+
+# A good pair: exit 0, the table, the JSON; a 0.2 MPa offset shows as the bias.
+record "$tmp/offset.csv" "1:3:10 2:4:10" 0.2
+expect good_pair 0 --data "$tmp/data.csv" --model "$tmp/offset.csv" --json "$tmp/out.json" -- \
+  "overall" "+0.2000" "quadrant 4" "combined NRMSE" "over-predicted by 0.2 MPa"
+grep -qF '"combined"' "$tmp/out.json" && grep -qF '"segments"' "$tmp/out.json" ||
+  { echo "FAIL good_pair: JSON lacks nrmse.combined or segments"; fail=1; }
+expect identical 0 --data "$tmp/data.csv" --model "$tmp/data.csv" -- "combined NRMSE (mean of the two): 0.0000"
+
+exit $fail
