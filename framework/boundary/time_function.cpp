@@ -61,8 +61,16 @@ TimeFunction TimeFunction::from_file(const std::string& path, double time_scale,
     t.push_back(a * time_scale);
     v.push_back(b * value_scale);
   }
+  return from_samples(std::move(t), std::move(v), derivative, path);
+}
+
+TimeFunction TimeFunction::from_samples(std::vector<double> t, std::vector<double> v, bool derivative,
+                                        const std::string& path) {
   if (t.size() < 2) throw InputError(path + ": a time history needs at least two rows");
-  if (!derivative) return table(std::move(t), std::move(v), v.back(), path);
+  if (!derivative) {
+    const double last = v.back();
+    return table(std::move(t), std::move(v), last, path);
+  }
   // Displacement history -> velocity: the piecewise constant slope of each segment, so that the
   // driven displacement passes through the table's points.
   std::vector<double> tv, vv;

@@ -20,6 +20,9 @@ class TimeFunction {
   // `derivative`: the file holds a displacement history and the function is its velocity.
   static TimeFunction from_file(const std::string& path, double time_scale, double value_scale,
                                 bool derivative);
+  // The same from samples already read (e.g. named columns of a CSV table); `origin` for messages.
+  static TimeFunction from_samples(std::vector<double> t, std::vector<double> v, bool derivative,
+                                   const std::string& origin);
   static TimeFunction expression(const std::string& expr);  // throws InputError on a bad expression
   // Velocity of a triangular displacement history: 0 -> +A -> 0 (one_sided) or
   // 0 -> +A -> 0 -> -A -> 0, `number` times, at speed `speed`; zero afterwards.

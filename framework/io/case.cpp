@@ -1,4 +1,5 @@
 #include "framework/io/case.hpp"
+#include "framework/io/measurement_csv.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -153,7 +154,7 @@ struct Reader {
                                 positive(*body, "cycles", Dimension::dimensionless, path));
     }
     if (kind == "file") {
-      check_keys(*body, path, {"path", "time_unit", "value_unit", "holds"});
+      check_keys(*body, path, {"path", "time_unit", "value_unit", "holds", "time_column", "value_column"});
       const std::string holds = str(*body, "holds", path, std::string("velocity"));
       if (holds != "velocity" && holds != "displacement")
         throw InputError(at(*body, path + ".holds") + ": must be 'velocity' or 'displacement', not '" + holds + "'");
@@ -169,7 +170,18 @@ struct Reader {
       const std::string file_path = resolve(str(*body, "path", path));
       if (!fs::exists(file_path))
         throw InputError(at(*body, path + ".path") + ": data file '" + file_path + "' does not exist");
-      return TimeFunction::from_file(file_path, ts, vs, holds == "displacement");
+      // With column names the file is a CSV table with a header (e.g. a drive table time_s,
+      // shear_disp_mm, or a measurement record); without, two bare columns.
+      const bool named = body->contains("time_column") || body->contains("value_column");
+      if (!named) return TimeFunction::from_file(file_path, ts, vs, holds == "displacement");
+      const std::string tc = str(*body, "time_column", path), vc = str(*body, "value_column", path);
+      const CsvTable tab = read_csv_table(file_path, {tc, vc}, "time-history table");
+      std::vector<double> tt, vv;
+      for (const auto& row : tab.rows) {
+        tt.push_back(row[static_cast<std::size_t>(tab.column(tc))] * ts);
+        vv.push_back(row[static_cast<std::size_t>(tab.column(vc))] * vs);
+      }
+      return TimeFunction::from_samples(std::move(tt), std::move(vv), holds == "displacement", file_path);
     }
     if (kind == "expression") {
       check_keys(*body, path, {"value", "unit"});

@@ -25,6 +25,7 @@ struct ShearPath {
   double frequency = 0.0;  // sinusoid [Hz]
   bool one_sided = false;  // cycles: 0 -> +A -> 0 instead of 0 -> +A -> 0 -> -A -> 0
   std::vector<double> time, disp;  // table: time [s] (relative to the stage start), offset [m]
+  std::string source;              // table: the file it was read from (for a DEM run of the same path)
 
   // One cycle is 0 -> +A -> 0 -> -A -> 0 (or 0 -> +A -> 0 when one_sided) at constant velocity.
   static ShearPath cycles(double amplitude, int number, double velocity, bool one_sided = false);

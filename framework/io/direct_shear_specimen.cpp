@@ -1,0 +1,150 @@
+// DEM specimen of a laboratory direct-shear test (see direct_shear_specimen.hpp). The case is built
+// as an ordinary case-file table and loaded by the case reader, so it is checked like a hand-written
+// case and can be printed for the user to inspect or modify.
+#include "framework/io/direct_shear_specimen.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <filesystem>
+
+#include "framework/core/error.hpp"
+
+namespace rockdem {
+namespace {
+
+// A quantity as the case reader wants it: a string with its unit, full precision.
+std::string q(double v, const char* unit) {
+  char buf[64];
+  auto [end, ec] = std::to_chars(buf, buf + sizeof(buf), v);  // shortest text that reads back exactly
+  (void)ec;
+  return std::string(buf, end) + " " + unit;
+}
+
+toml::array rectangle(double x0, double y0, double w, double h) {
+  return toml::array{q(x0, "m"), q(y0, "m"), q(w, "m"), q(h, "m")};
+}
+
+// The loading block's velocity for a stage's shear path.
+toml::table path_velocity(const ShearPath& p, double shear_velocity, const std::string& where) {
+  switch (p.kind) {
+    case ShearPath::Kind::cycles:
+      return toml::table{{"cycles", toml::table{{"amplitude", q(p.amplitude, "m")},
+                                                {"speed", q(shear_velocity > 0.0 ? shear_velocity : p.velocity, "m/s")},
+                                                {"number", p.count},
+                                                {"one_sided", p.one_sided}}}};
+    case ShearPath::Kind::sinusoid:
+      return toml::table{{"sine", toml::table{{"amplitude", q(p.amplitude, "m")},
+                                              {"frequency", q(p.frequency, "Hz")},
+                                              {"cycles", p.count}}}};
+    case ShearPath::Kind::table:
+      if (p.source.empty())
+        throw InputError(where + ": the DEM specimen follows a drive file only as a whole, starting at time 0 (no "
+                                 "file_stage, first time_s = 0); make a drive table (time_s, shear_disp_mm) for it");
+      return toml::table{{"file", toml::table{{"path", std::filesystem::absolute(p.source).string()},
+                                              {"holds", "displacement"},
+                                              {"time_column", "time_s"},
+                                              {"value_column", "shear_disp_mm"},
+                                              {"time_unit", "s"},
+                                              {"value_unit", "mm"}}}};
+  }
+  return {};
+}
+
+}  // namespace
+
+toml::table direct_shear_case_table(const LabTest& test, const DirectShearOptions& options) {
+  if (!test.rock) {
+    throw InputError(test.file + ": the DEM specimen needs the rock matrix: add density, bulk and shear to [specimen] "
+                                 "(the report's Table 4-1), e.g. density = \"2418.8 kg/m3\", bulk = \"20.96 GPa\", "
+                                 "shear = \"14.41 GPa\"");
+  }
+  const DemSettings& dem = test.dem;
+  const double shear_velocity = options.shear_velocity >= 0.0 ? options.shear_velocity : dem.shear_velocity;
+  const double mass_scaling_dt = options.mass_scaling_dt >= 0.0 ? options.mass_scaling_dt : dem.mass_scaling_dt;
+  const std::size_t nstages =
+      options.stages > 0 ? std::min<std::size_t>(static_cast<std::size_t>(options.stages), test.stages.size()) : test.stages.size();
+  for (std::size_t k = 0; k < nstages; ++k)
+    if (test.stages[k].control != NormalControl::constant_stress)
+      throw InputError(test.file + ": stage " + std::to_string(k + 1) +
+                       " uses constant normal stiffness; the DEM specimen applies a constant normal stress (run it with "
+                       "`rockdem element`)");
+
+  // Figure 4-7 geometry: 102 mm high blocks, the top one as long as the joint and 51 mm from the
+  // bottom block's left end, the bottom one 305 mm long (longer if the joint is), loading block
+  // 20 mm wide against the top block's left face.
+  const double L = test.joint_length, H = 0.102, offset = 0.051;
+  const double bottom_length = std::max(0.305, L + 2.0 * offset);
+
+  toml::table root;
+  root.insert("title", (test.title.empty() ? test.specimen : test.title) + " (DEM specimen, Figure 4-7 model)");
+  root.insert("model", toml::table{{"rounding", q(dem.rounding, "m")}, {"detection_tolerance", q(2.0 * dem.rounding, "m")}});
+  toml::table time{{"dt_safety", dem.dt_safety}, {"refresh_interval", 10}};
+  if (mass_scaling_dt > 0.0) time.insert("mass_scaling_dt", q(mass_scaling_dt, "s"));
+  root.insert("time", std::move(time));
+  root.insert("materials", toml::array{toml::table{{"name", "rock"},
+                                                   {"model", "elastic"},
+                                                   {"density", q(test.rock->density, "kg/m3")},
+                                                   {"bulk", q(test.rock->bulk, "Pa")},
+                                                   {"shear", q(test.rock->shear, "Pa")}}});
+  toml::table joint = test.joint_params;
+  joint.insert_or_assign("name", "specimen_joint");
+  joint.insert_or_assign("law", test.law);
+  joint.insert_or_assign("between", toml::array{"bottom", "top"});
+  if (!test.effects.empty()) joint.insert_or_assign("effects", test.effects);
+  // Frictionless and non-separating, stiff against the rock (report section 4).
+  toml::table interface{{"name", "loading_interface"}, {"law", "coulomb_slip"},   {"between", toml::array{"loader", "top"}},
+                        {"kn", "200000 MPa/m"},        {"ks", "20000 MPa/m"},     {"friction", "0 deg"},
+                        {"tension", "10000 MPa"},      {"residual_after_failure", false}};
+  root.insert("joints", toml::array{std::move(joint), std::move(interface)});
+  root.insert("blocks", toml::array{
+                            toml::table{{"name", "bottom"}, {"type", "deformable"}, {"material", "rock"},
+                                        {"rectangle", rectangle(0.0, -H, bottom_length, H)}, {"zone_size", q(dem.zone_size, "m")}},
+                            toml::table{{"name", "top"}, {"type", "deformable"}, {"material", "rock"},
+                                        {"rectangle", rectangle(offset, 0.0, L, H)}, {"zone_size", q(dem.zone_size, "m")}},
+                            toml::table{{"name", "loader"}, {"type", "rigid"}, {"density", "2420 kg/m3"},
+                                        {"rectangle", rectangle(offset - 0.02, 0.06 * H, 0.02, 0.88 * H)}},
+                        });
+  toml::array boundary{
+      toml::table{{"type", "fixed"}, {"block", "bottom"}, {"face", "bottom"}, {"components", toml::array{"y"}}},
+      toml::table{{"type", "fixed"}, {"block", "bottom"}, {"face", "left"}, {"components", toml::array{"x"}}},
+      toml::table{{"type", "fixed"}, {"block", "bottom"}, {"face", "right"}, {"components", toml::array{"x"}}},
+  };
+  toml::array stages, shear_stages, normal_stresses;
+  for (std::size_t k = 0; k < nstages; ++k) {
+    const ElementStage& st = test.stages[k];
+    const std::string n = std::to_string(k + 1), load = "load_" + n, shear = "shear_" + n;
+    boundary.push_back(toml::table{{"type", "traction"}, {"block", "top"}, {"face", "top"},
+                                   {"normal", q(st.normal_stress, "Pa")}, {"stages", toml::array{load, shear}}});
+    boundary.push_back(toml::table{{"type", "velocity"}, {"block", "loader"}, {"vx", "0 m/s"}, {"vy", "0 m/s"},
+                                   {"spin", "0 rad/s"}, {"stages", toml::array{load}}});
+    boundary.push_back(toml::table{{"type", "velocity"}, {"block", "loader"},
+                                   {"vx", path_velocity(st.path, shear_velocity, test.file + " stage " + n)},
+                                   {"vy", "0 m/s"}, {"spin", "0 rad/s"}, {"stages", toml::array{shear}}});
+    toml::table load_stage{{"name", load}, {"damping", "local"}, {"until", "equilibrium"}, {"ratio", 1e-4}};
+    if (!test.stage_params[k].empty()) load_stage.insert("joints", toml::table{{"specimen_joint", test.stage_params[k]}});
+    stages.push_back(std::move(load_stage));
+    stages.push_back(toml::table{{"name", shear}, {"damping", "local"}, {"until", "duration"}, {"duration", "auto"}});
+    shear_stages.push_back(shear);
+    normal_stresses.push_back(q(st.normal_stress, "Pa"));
+  }
+  root.insert("boundary", std::move(boundary));
+  root.insert("stages", std::move(stages));
+  root.insert("direct_shear", toml::table{{"specimen", test.specimen},
+                                          {"joint_length", q(L, "m")},
+                                          {"loader", "loader"},
+                                          {"top", "top"},
+                                          {"bottom", "bottom"},
+                                          {"shear_stages", std::move(shear_stages)},
+                                          {"normal_stresses", std::move(normal_stresses)}});
+  root.insert("output", toml::table{{"history_interval", dem.history_interval}});
+  return root;
+}
+
+Case direct_shear_case(const LabTest& test, const DirectShearOptions& options) {
+  const toml::table t = direct_shear_case_table(test, options);
+  Case c = load_case_table(t, test.file + " (DEM specimen)", std::filesystem::path(test.file).parent_path().string());
+  c.direct_shear.metadata = {{"joint_model", test.model->description()}};
+  return c;
+}
+
+}  // namespace rockdem
