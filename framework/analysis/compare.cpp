@@ -37,12 +37,13 @@ std::string plural(std::size_t n, const char* word) {
 // Running sums of one group; the stats follow at the end.
 struct Acc {
   std::array<std::size_t, 2> n{};
-  std::array<double, 2> e{}, e2{}, absm{};
+  std::array<double, 2> e{}, e2{}, absm{}, mag{};
   void add(std::size_t v, double err, double measured) {
     ++n[v];
     e[v] += err;
     e2[v] += err * err;
     absm[v] += std::abs(measured);
+    mag[v] += std::abs(measured + err) - std::abs(measured);
   }
 };
 
@@ -55,12 +56,13 @@ ErrorGroup finish(int stage, int cycle, int quadrant, const Acc& a, const std::a
     ErrorStats& s = g.var[v];
     s.n = a.n[v];
     if (s.n == 0) {
-      s.rmse = s.nrmse = s.bias = s.mean_abs_measured = kNaN;
+      s.rmse = s.nrmse = s.bias = s.magnitude_bias = s.mean_abs_measured = kNaN;
       continue;
     }
     const double n = static_cast<double>(s.n);
     s.rmse = std::sqrt(a.e2[v] / n);
     s.bias = a.e[v] / n;
+    s.magnitude_bias = a.mag[v] / n;
     s.mean_abs_measured = a.absm[v] / n;
     s.nrmse = range[v] > 0.0 ? s.rmse / range[v] : kNaN;
   }
@@ -110,14 +112,19 @@ std::string worst_line(const ErrorGroup& g, std::size_t v, double range) {
   const std::string unit = std::string(" ") + var.unit;
   const std::string tail = "; RMSE " + fmt("%.3g", s.rmse) + unit + ", NRMSE " + fmt("%.3f", s.nrmse) + ", " +
                            plural(s.n, "row");
+  // Shear stress carries the shearing direction as its sign, so its over/under-prediction is one
+  // of magnitude (strength); normal displacement keeps its sign (dilation positive).
+  const bool magnitude = v == 0;
+  const double b = magnitude ? s.magnitude_bias : s.bias;
   // A bias of at least half the RMSE is a systematic over/under-prediction; otherwise the model
   // scatters around the measurement (wrong shape, not wrong level).
-  if (std::abs(s.bias) >= 0.5 * s.rmse) {
-    std::string line = where + (s.bias > 0 ? "over" : "under") + "-predicted by " + fmt("%.3g", std::abs(s.bias)) +
-                       unit;
+  if (std::abs(b) >= 0.5 * s.rmse) {
+    std::string line = where + (b > 0 ? "over" : "under") + "-predicted by " + fmt("%.3g", std::abs(b)) + unit;
+    if (magnitude) line += " in magnitude";
+    if (!magnitude) line += b > 0 ? " (more dilation or less closure)" : " (less dilation or more closure)";
     // A percentage of a near-zero mean (normal displacement near the mated position) says nothing.
     if (s.mean_abs_measured >= 0.05 * range) {
-      line += " (" + fmt("%.0f", 100.0 * std::abs(s.bias) / s.mean_abs_measured) +
+      line += " (" + fmt("%.0f", 100.0 * std::abs(b) / s.mean_abs_measured) +
               " % of the measured mean magnitude in this segment, " + fmt("%.3g", s.mean_abs_measured) + unit + ")";
     } else {
       line += " (the measured values here are near zero: mean magnitude " + fmt("%.3g", s.mean_abs_measured) + unit +
@@ -125,12 +132,12 @@ std::string worst_line(const ErrorGroup& g, std::size_t v, double range) {
     }
     return line + tail;
   }
-  return where + "off by " + fmt("%.3g", s.rmse) + unit + " RMS with little mean bias (" + fmt("%+.3g", s.bias) +
+  return where + "off by " + fmt("%.3g", s.rmse) + unit + " RMS with little mean bias (" + fmt("%+.3g", b) +
          unit + "): scatter or a different shape rather than a level shift" + tail;
 }
 
 nlohmann::json stats_json(const ErrorStats& s) {
-  return {{"n", s.n}, {"rmse", s.rmse}, {"nrmse", s.nrmse}, {"bias", s.bias},
+  return {{"n", s.n},         {"rmse", s.rmse}, {"nrmse", s.nrmse}, {"bias", s.bias}, {"magnitude_bias", s.magnitude_bias},
           {"mean_abs_measured", s.mean_abs_measured}};
 }
 
@@ -372,6 +379,7 @@ nlohmann::json to_json(const Comparison& c) {
                                {"rmse", s.rmse},
                                {"nrmse", s.nrmse},
                                {"bias", s.bias},
+                               {"magnitude_bias", s.magnitude_bias},
                                {"mean_abs_measured", s.mean_abs_measured}});
     }
   j["worst"] = c.worst;

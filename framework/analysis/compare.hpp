@@ -6,7 +6,8 @@
 // variable (shear stress [MPa], normal displacement [mm]) overall, per stage, per cycle, per
 // quadrant and per stage x cycle x quadrant:
 //   RMSE, NRMSE = RMSE / (max - min of the measured variable over the whole file),
-//   bias = mean(model - measurement); combined NRMSE = mean of the two variables' NRMSE.
+//   bias = mean(model - measurement), magnitude bias = mean(|model| - |measurement|);
+//   combined NRMSE = mean of the two variables' NRMSE.
 // Records whose stages or shear paths differ are refused (InputError saying what differs).
 #include <array>
 #include <cstddef>
@@ -45,6 +46,9 @@ struct CompareOptions {
 struct ErrorStats {
   std::size_t n = 0;
   double rmse = 0.0, nrmse = 0.0, bias = 0.0;
+  // mean(|model| - |measured|): for shear stress, whose sign is the shearing direction, the
+  // over/under-prediction of strength whichever way the joint is sheared.
+  double magnitude_bias = 0.0;
   double mean_abs_measured = 0.0;  // mean |measured value|, the reference of percentages
 };
 

@@ -95,7 +95,7 @@ expect other_cycles 2 --data "$tmp/data.csv" --model "$tmp/two_cycles.csv" -- \
 # A good pair: exit 0, the table, the JSON; a 0.2 MPa offset shows as the bias.
 record "$tmp/offset.csv" "1:3:10 2:4:10" 0.2
 expect good_pair 0 --data "$tmp/data.csv" --model "$tmp/offset.csv" --json "$tmp/out.json" -- \
-  "overall" "+0.2000" "quadrant 4" "combined NRMSE" "over-predicted by 0.2 MPa"
+  "overall" "+0.2000" "quadrant 4" "combined NRMSE" "predicted by" "MPa in magnitude"
 grep -qF '"combined"' "$tmp/out.json" && grep -qF '"segments"' "$tmp/out.json" ||
   { echo "FAIL good_pair: JSON lacks nrmse.combined or segments"; fail=1; }
 expect identical 0 --data "$tmp/data.csv" --model "$tmp/data.csv" -- "combined NRMSE (mean of the two): 0.0000"
