@@ -23,9 +23,9 @@ namespace {
 using namespace seismic;
 
 struct Options {
-  std::string record, units, column, time_column = "1", dt;
-  std::string start, end, baseline = "1", taper = "0 s", pad = "0 s", highpass, lowpass, order = "2",
-                          disp_baseline = "0", peak;
+  std::string record, units, column, time_column, dt;
+  // Processing; empty = not given (defaults below), so that any one given option asks for processing.
+  std::string start, end, baseline, taper, pad, highpass, lowpass, order, disp_baseline, peak;
   std::string out, label, periods, damping = "0.05";
 };
 
@@ -83,8 +83,10 @@ std::vector<double> periods_of(const std::string& text) {
 }
 
 bool any_processing(const Options& o) {
-  return !o.out.empty() || !o.start.empty() || !o.end.empty() || !o.highpass.empty() || !o.lowpass.empty() ||
-         !o.peak.empty();
+  for (const std::string* v : {&o.out, &o.start, &o.end, &o.baseline, &o.taper, &o.pad, &o.highpass, &o.lowpass,
+                               &o.order, &o.disp_baseline, &o.peak})
+    if (!v->empty()) return true;
+  return false;
 }
 
 void write_drive(const std::string& path, const ProcessedMotion& m, const std::string& label,
@@ -126,8 +128,16 @@ int run(const Options& o, const CLI::App& sub) {
     throw InputError(std::string("option --units: ") + e.what());
   }
   layout.column = o.column;
-  layout.time_column = integer(o.time_column, "--time-column", 0, 1000);
-  if (!o.dt.empty()) layout.dt = quantity(o.dt, Dimension::time, "--dt");
+  if (!o.time_column.empty()) layout.time_column = integer(o.time_column, "--time-column", 0, 1000);
+  if (!o.dt.empty()) {
+    if (layout.time_column != 0) {
+      throw InputError(
+          "option --dt is only for records without a time column (--time-column 0); this record's "
+          "times are in column " +
+          std::to_string(layout.time_column));
+    }
+    layout.dt = quantity(o.dt, Dimension::time, "--dt");
+  }
   const GroundMotion g = load_ground_motion(o.record, layout);
   const std::size_t ip = peak_index(g.acc);
   std::printf("record %s (%s): %zu samples, dt %.6g s, %.6g s to %.6g s; peak %.6g m/s^2 (%.5g x %s) at %.6g s\n",
@@ -149,13 +159,13 @@ int run(const Options& o, const CLI::App& sub) {
   DisplacementProcessing p;
   if (!o.start.empty()) p.start = quantity(o.start, Dimension::time, "--start");
   if (!o.end.empty()) p.end = quantity(o.end, Dimension::time, "--end");
-  p.acc_baseline_degree = integer(o.baseline, "--baseline-degree", -1, 10);
-  p.taper = quantity(o.taper, Dimension::time, "--taper");
-  p.pad = quantity(o.pad, Dimension::time, "--pad");
+  if (!o.baseline.empty()) p.acc_baseline_degree = integer(o.baseline, "--baseline-degree", -1, 10);
+  if (!o.taper.empty()) p.taper = quantity(o.taper, Dimension::time, "--taper");
+  if (!o.pad.empty()) p.pad = quantity(o.pad, Dimension::time, "--pad");
   if (!o.highpass.empty()) p.f_low = quantity(o.highpass, Dimension::frequency, "--highpass");
   if (!o.lowpass.empty()) p.f_high = quantity(o.lowpass, Dimension::frequency, "--lowpass");
-  p.order = integer(o.order, "--order", 1, 8);
-  p.disp_baseline_degree = integer(o.disp_baseline, "--disp-baseline-degree", 0, 10);
+  if (!o.order.empty()) p.order = integer(o.order, "--order", 1, 8);
+  if (!o.disp_baseline.empty()) p.disp_baseline_degree = integer(o.disp_baseline, "--disp-baseline-degree", 0, 10);
   if (!o.peak.empty()) {
     p.peak_displacement = quantity(o.peak, Dimension::length, "--peak");
     if (!(p.peak_displacement > 0.0)) throw InputError("option --peak '" + o.peak + "' must be positive");

@@ -61,6 +61,7 @@ expect bad_peak 2 "option --peak '25.4'" "m, cm, mm" -- "$mx" --column 3 --units
 expect unknown_option 2 "unknown arguments '--bogus'" "--help" -- "$mx" --column 3 --units g --bogus
 expect bad_period 2 "option --sdof-periods 'x'" -- "$ec" --units g --sdof-periods 0.5,x
 expect bad_damping 2 "damping ratio 1.5" "0 <= damping < 1" -- "$ec" --units g --sdof-periods 1 --damping 1.5
+expect dt_with_time_column 2 "option --dt is only for records without a time column" -- "$ec" --units g --dt "0.01 s"
 expect unwritable_out 2 "cannot write the drive file" -- "$mx" --column 3 --units g --peak "1 mm" --out "$tmp/no/dir/d.csv"
 
 printf '0 0.1\n0.02 0.2\n0.05 0.1\n0.06 0.0\n' >"$tmp/uneven.txt"
