@@ -109,7 +109,6 @@ GroundMotion load_ground_motion(const std::string& path, const RecordLayout& lay
         for (auto f : fields) header.emplace_back(f);
         header_line = ln;
         first = false;
-        ncols = fields.size();
         continue;
       }
     }
@@ -154,12 +153,15 @@ GroundMotion load_ground_motion(const std::string& path, const RecordLayout& lay
       }
       if (layout.time_column > 0 && static_cast<std::size_t>(layout.time_column - 1) == acc_col) {
         throw InputError(where + ": the acceleration column and the time column are both column " +
-                         std::to_string(acc_col + 1) + "; choose another acceleration column");
+                         std::to_string(acc_col + 1) +
+                         "; choose another acceleration column (or time column 0 and a time step dt for a "
+                         "record without times)");
       }
     }
     if (fields.size() != ncols) {
-      throw InputError(where + ": " + std::to_string(fields.size()) + " columns, but the record's first line has " +
-                       std::to_string(ncols) + "; every data line must have the same columns");
+      throw InputError(where + ": " + std::to_string(fields.size()) +
+                       " columns, but the record's first data line has " + std::to_string(ncols) +
+                       "; every data line must have the same columns");
     }
     for (std::size_t k = 0; k < fields.size(); ++k) {
       const bool used =
