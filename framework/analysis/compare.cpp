@@ -119,16 +119,14 @@ std::string worst_line(const ErrorGroup& g, std::size_t v, double range) {
   // A bias of at least half the RMSE is a systematic over/under-prediction; otherwise the model
   // scatters around the measurement (wrong shape, not wrong level).
   if (std::abs(b) >= 0.5 * s.rmse) {
-    std::string line = where + (b > 0 ? "over" : "under") + "-predicted by " + fmt("%.3g", std::abs(b)) + unit;
-    if (magnitude) line += " in magnitude";
-    if (!magnitude) line += b > 0 ? " (more dilation or less closure)" : " (less dilation or more closure)";
+    std::string line = where + (b > 0 ? "over" : "under") + "-predicted by " + fmt("%.3g", std::abs(b)) + unit +
+                       (magnitude ? " in magnitude (" : b > 0 ? " (more dilation or less closure; " : " (less dilation or more closure; ");
     // A percentage of a near-zero mean (normal displacement near the mated position) says nothing.
     if (s.mean_abs_measured >= 0.05 * range) {
-      line += " (" + fmt("%.0f", 100.0 * std::abs(b) / s.mean_abs_measured) +
-              " % of the measured mean magnitude in this segment, " + fmt("%.3g", s.mean_abs_measured) + unit + ")";
+      line += fmt("%.0f", 100.0 * std::abs(b) / s.mean_abs_measured) + " % of the measured mean magnitude in this segment, " +
+              fmt("%.3g", s.mean_abs_measured) + unit + ")";
     } else {
-      line += " (the measured values here are near zero: mean magnitude " + fmt("%.3g", s.mean_abs_measured) + unit +
-              ")";
+      line += "the measured values here are near zero: mean magnitude " + fmt("%.3g", s.mean_abs_measured) + unit + ")";
     }
     return line + tail;
   }
@@ -312,7 +310,8 @@ void summarize(const MeasurementFile& data, const Segmentation& dseg, const Alig
   for (std::size_t g = 0; g < out.segments.size(); ++g)
     for (std::size_t v = 0; v < 2; ++v) {
       const ErrorStats& s = out.segments[g].var[v];
-      if (out.segments[g].quadrant != 0 && s.n >= options.worst_min_rows && std::isfinite(s.nrmse))
+      // Errors at rounding level are no finding (a model compared with its own record).
+      if (out.segments[g].quadrant != 0 && s.n >= options.worst_min_rows && std::isfinite(s.nrmse) && s.nrmse > 1e-9)
         cands.push_back({s.nrmse, g, v});
     }
   std::stable_sort(cands.begin(), cands.end(), [](const Cand& a, const Cand& b) { return a.nrmse > b.nrmse; });

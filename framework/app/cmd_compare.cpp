@@ -1,4 +1,5 @@
-// `rockdem compare --data MEASURED.csv --model MODEL.csv [--json OUT] [--plot DIR] [--quiet]`:
+// `rockdem compare --data MEASURED.csv --model MODEL.csv [--json OUT] [--plot DIR] [--quiet]`, or
+// `--case CASE.toml` instead of --model to run the laboratory-test case as an element test first:
 // aligns a model record on a measured one by shear displacement (framework/analysis/compare.hpp),
 // prints the error table and the worst segments in words, writes the JSON and, with --plot, the
 // two-panel figure through scripts/plot_compare.py (Debian's /usr/bin/python3, which has
@@ -16,6 +17,7 @@
 #include "framework/analysis/compare.hpp"
 #include "framework/app/command.hpp"
 #include "framework/core/error.hpp"
+#include "framework/io/lab_test.hpp"
 #include "framework/io/measurement_csv.hpp"
 
 extern char** environ;
@@ -71,12 +73,17 @@ const CommandRegistrar reg{Command{
     false, [](CLI::App& sub) {
       auto data = std::make_shared<std::string>();
       auto model = std::make_shared<std::string>();
+      auto case_file = std::make_shared<std::string>();
+      auto save_model = std::make_shared<std::string>();
       auto json = std::make_shared<std::string>();
       auto plot = std::make_shared<std::string>();
       auto quiet = std::make_shared<bool>(false);
       auto opt = std::make_shared<CompareOptions>();
       sub.add_option("--data", *data, "measured record (measurement CSV)")->required();
-      sub.add_option("--model", *model, "model record (measurement CSV, e.g. from rockdem element)")->required();
+      auto* model_opt = sub.add_option("--model", *model, "model record (measurement CSV, e.g. from rockdem element)");
+      auto* case_opt = sub.add_option("--case", *case_file, "laboratory-test case to run as an element test instead of --model");
+      model_opt->excludes(case_opt);
+      sub.add_option("--save-model", *save_model, "with --case: write the model record here");
       sub.add_option("--json", *json, "write the full comparison as JSON to this file");
       sub.add_option("--plot", *plot, "write the figure <model name>.png into this folder");
       sub.add_flag("--quiet", *quiet, "print nothing but errors");
@@ -91,13 +98,32 @@ const CommandRegistrar reg{Command{
       return [=]() -> int {
         const auto t0 = std::chrono::steady_clock::now();
         const MeasurementFile d = read_measurement_csv(*data);
-        const MeasurementFile m = read_measurement_csv(*model);
+        if (model->empty() == case_file->empty()) throw InputError("rockdem compare: give --model FILE.csv or --case CASE.toml");
+        MeasurementFile m;
+        std::string model_csv = *model;  // the model record on disk (the plot script reads files)
+        double ms_run = 0.0;
+        if (!case_file->empty()) {
+          const LabTest test = read_lab_test(*case_file);
+          ElementRun run = run_element_test(test);
+          ms_run = run.wall_ms;
+          m = std::move(run.record);
+          model_csv = !save_model->empty() ? *save_model
+                      : !plot->empty()     ? (fs::path(*plot) / (fs::path(*case_file).stem().string() + ".csv")).string()
+                                           : std::string();
+          if (!model_csv.empty()) {
+            if (!plot->empty()) fs::create_directories(*plot);
+            write_measurement_csv(model_csv, m);
+          }
+        } else {
+          m = read_measurement_csv(*model);
+        }
+        const std::string model_name = case_file->empty() ? *model : *case_file;
         const auto t1 = std::chrono::steady_clock::now();
         Comparison c;
         try {
           c = compare(d, m, *opt);
         } catch (const InputError& e) {
-          throw InputError(*data + " vs " + *model + ": " + e.what());
+          throw InputError(*data + " vs " + model_name + ": " + e.what());
         }
         const auto t2 = std::chrono::steady_clock::now();
         const double ms_read = std::chrono::duration<double, std::milli>(t1 - t0).count();
@@ -105,7 +131,8 @@ const CommandRegistrar reg{Command{
         if (!json->empty()) {
           nlohmann::json j = to_json(c);
           j["data"] = *data;
-          j["model"] = *model;
+          j["model"] = model_name;
+          if (!case_file->empty()) j["model_record"] = model_csv;
           j["specimen"] = meta(d, "specimen");
           j["data_source"] = meta(d, "source");
           j["model_description"] = meta(m, "joint_model");
@@ -116,20 +143,21 @@ const CommandRegistrar reg{Command{
         }
         if (!*quiet) {
           std::printf("compare: %s (%zu rows, %zu stage(s)) vs model %s (%zu rows), aligned on shear displacement\n",
-                      data->c_str(), d.rows.size(), c.data_segments.stages.size(), model->c_str(), m.rows.size());
+                      data->c_str(), d.rows.size(), c.data_segments.stages.size(), model_name.c_str(), m.rows.size());
+          if (!case_file->empty()) std::printf("(element test of %s run in %.1f ms)\n", case_file->c_str(), ms_run);
           std::printf("%s", format_table(c).c_str());
           if (c.alignment.outside > 0) {
             std::printf("note: %zu measured rows lie beyond the ends of the model's matching segment (end value used)\n",
                         c.alignment.outside);
           }
-          if (!c.worst.empty()) std::printf("worst segments:\n");
+          std::printf(c.worst.empty() ? "worst segments: none (no error above rounding)\n" : "worst segments:\n");
           for (const auto& w : c.worst) std::printf("  %s\n", w.c_str());
-          std::printf("(read %.1f ms, compared in %.2f ms)\n", ms_read, ms_cmp);
+          std::printf("(read%s %.1f ms, compared in %.2f ms)\n", case_file->empty() ? "" : " and run", ms_read, ms_cmp);
         }
         if (!plot->empty()) {
           fs::create_directories(*plot);
-          const fs::path png = fs::path(*plot) / (fs::path(*model).stem().string() + ".png");
-          const int rc = run_python({"/usr/bin/python3", find_plot_script().string(), *data, *model, "-o", png.string()});
+          const fs::path png = fs::path(*plot) / (fs::path(model_name).stem().string() + ".png");
+          const int rc = run_python({"/usr/bin/python3", find_plot_script().string(), *data, model_csv, "-o", png.string()});
           if (rc != 0) throw std::runtime_error("--plot: plot_compare.py failed (exit " + std::to_string(rc) + ")");
           if (!*quiet) std::printf("figure: %s\n", png.c_str());
         }

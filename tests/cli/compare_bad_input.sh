@@ -5,6 +5,7 @@
 # Usage: bash compare_bad_input.sh <rockdem-binary> <source-dir>
 set -u
 bin=$1
+src=$2
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 fail=0
@@ -99,5 +100,20 @@ expect good_pair 0 --data "$tmp/data.csv" --model "$tmp/offset.csv" --json "$tmp
 grep -qF '"combined"' "$tmp/out.json" && grep -qF '"segments"' "$tmp/out.json" ||
   { echo "FAIL good_pair: JSON lacks nrmse.combined or segments"; fail=1; }
 expect identical 0 --data "$tmp/data.csv" --model "$tmp/data.csv" -- "combined NRMSE (mean of the two): 0.0000"
+
+# The case-level form runs the element test first; compared with that test's own record: zero.
+case_file="$src/cases/direct_shear/test09_mohr_coulomb.toml"
+if "$bin" element "$case_file" --out "$tmp/t9.csv" >/dev/null 2>&1; then
+  expect case_form 0 --data "$tmp/t9.csv" --case "$case_file" --save-model "$tmp/t9_model.csv" -- \
+    "combined NRMSE (mean of the two): 0.0000" "worst segments: none"
+  cmp -s <(grep -v '^#' "$tmp/t9.csv") <(grep -v '^#' "$tmp/t9_model.csv") ||
+    { echo "FAIL case_form: --save-model record differs from rockdem element's"; fail=1; }
+else
+  echo "FAIL case_form: rockdem element $case_file failed"
+  fail=1
+fi
+expect case_missing 2 --data "$tmp/data.csv" --case "$tmp/none.toml" -- "none.toml: case file not found"
+expect no_model 2 --data "$tmp/data.csv" -- "give --model FILE.csv or --case CASE.toml"
+expect case_other_path 2 --data "$tmp/data.csv" --case "$case_file" -- "data.csv vs $case_file" "different stages" "the model 1, 2, 3"
 
 exit $fail
