@@ -213,10 +213,11 @@ void check_compatible(const Segmentation& data, const Segmentation& model, const
 }
 
 Alignment align(const MeasurementFile& data, const Segmentation& ds, const MeasurementFile& model,
-                const Segmentation& ms) {
+                const Segmentation& ms, const CompareOptions& options) {
   Alignment out;
   for (auto& v : out.model) v.assign(data.rows.size(), kNaN);
   std::vector<double> runmax;
+  std::vector<std::size_t> dturns, mturns;
   for (std::size_t si = 0; si < ds.stages.size(); ++si) {
     const StageInfo& dst = ds.stages[si];
     const StageInfo& mst = ms.stages[si];
@@ -224,12 +225,35 @@ Alignment align(const MeasurementFile& data, const Segmentation& ds, const Measu
       const Segment& d = ds.segments[dst.first_segment + k];
       const Segment& m = ms.segments[mst.first_segment + k];
       if (d.motion != 0) {
-        // Progress along the segment is the displacement in its direction of motion.
-        const double dir = d.motion;
-        interpolate(
-            d.begin, d.end, model, m.curve_begin, m.end,
-            [&](std::size_t j) { return dir * model.rows[j].shear_disp_mm; },
-            [&](std::size_t i) { return dir * data.rows[i].shear_disp_mm; }, runmax, out);
+        // Reversals below the segment threshold (an earthquake record's small back-and-forth)
+        // still flip the shear stress. Where both records show the same finer reversals, align
+        // piece by piece between them; where they do not (noise), on the whole segment. A
+        // reversal near one threshold may be seen in one record and not the other, so the finest
+        // of a few thresholds (doubling up to half the segment threshold) that agrees is used.
+        int dfirst = 0, mfirst = 0;
+        bool pieces = false;
+        for (double f = options.fine_fraction; f > 0.0 && f <= 0.5 && !pieces; f *= 2.0) {
+          find_reversals(data, d.curve_begin, d.end, f * dst.threshold, dturns, dfirst);
+          if (dturns.empty()) break;  // none at this level: none at coarser ones either
+          find_reversals(model, m.curve_begin, m.end, f * dst.threshold, mturns, mfirst);
+          pieces = dturns.size() == mturns.size() && dfirst == mfirst;
+        }
+        if (pieces) {
+          ++out.finely_aligned_segments;
+        } else {
+          dturns.clear();
+          mturns.clear();
+          dfirst = d.motion;
+        }
+        for (std::size_t p = 0; p <= dturns.size(); ++p) {
+          // Progress along a piece is the displacement in its direction of motion.
+          const double dir = p % 2 == 0 ? dfirst : -dfirst;
+          interpolate(
+              p == 0 ? d.begin : dturns[p - 1] + 1, p < dturns.size() ? dturns[p] + 1 : d.end, model,
+              p == 0 ? m.curve_begin : mturns[p - 1], p < mturns.size() ? mturns[p] + 1 : m.end,
+              [&](std::size_t j) { return dir * model.rows[j].shear_disp_mm; },
+              [&](std::size_t i) { return dir * data.rows[i].shear_disp_mm; }, runmax, out);
+        }
       } else {
         // No shear motion (a stage that only loads the joint normally): nothing to align on but
         // the fraction of the stage's duration (or of its rows, if time does not advance).
@@ -328,7 +352,7 @@ Comparison compare(const MeasurementFile& data, const Segmentation& dseg, const 
   c.data_segments = dseg;
   c.model_segments = segment(model, model_segmentation_options(dseg));
   check_compatible(c.data_segments, c.model_segments, options);
-  c.alignment = align(data, c.data_segments, model, c.model_segments);
+  c.alignment = align(data, c.data_segments, model, c.model_segments, options);
   summarize(data, c.data_segments, c.alignment, options, c);
   return c;
 }
@@ -384,7 +408,8 @@ nlohmann::json to_json(const Comparison& c) {
   j["worst"] = c.worst;
   j["alignment"] = {{"method", "shear displacement within stage and monotonic segment (first passage, linear)"},
                     {"measured_rows", c.data_segments.labels.size()},
-                    {"rows_beyond_model_segment_ends", c.alignment.outside}};
+                    {"rows_beyond_model_segment_ends", c.alignment.outside},
+                    {"segments_aligned_on_finer_reversals", c.alignment.finely_aligned_segments}};
   return j;
 }
 

@@ -2,7 +2,8 @@
 // Model against measurement for single-joint shear records. The two are aligned on shear
 // displacement, not time (the DEM and the laboratory run at different rates): each measured row
 // is matched to the model's value at the same shear displacement within the same stage and the
-// same monotonic segment (first passage, linear interpolation). Errors are then summarised per
+// same monotonic segment (first passage, linear interpolation; within a segment, between the
+// finer reversals both records share). Errors are then summarised per
 // variable (shear stress [MPa], normal displacement [mm]) overall, per stage, per cycle, per
 // quadrant and per stage x cycle x quadrant:
 //   RMSE, NRMSE = RMSE / (max - min of the measured variable over the whole file),
@@ -37,6 +38,10 @@ struct CompareOptions {
   SegmentationOptions segmentation;
   // Extremes and turning points may differ by this fraction of the stage's amplitude (max |u|).
   double endpoint_tolerance = 0.05;
+  // Within a segment, reversals larger than this fraction of the segment threshold (or twice,
+  // four times ... up to half of it) are matched between the records when both show the same
+  // number; alignment then runs piece by piece. 0: whole segments only.
+  double fine_fraction = 0.05;
   // Stage normal stresses (medians) may differ by this fraction (+ 0.01 MPa).
   double normal_stress_tolerance = 0.10;
   int worst_lines = 3;            // plain-language lines for the worst segments
@@ -64,6 +69,7 @@ struct Alignment {
   // Measured rows beyond the ends of the model's matching segment (the model's end value is
   // used); within the end-point tolerance these are expected, a large count is worth a look.
   std::size_t outside = 0;
+  std::size_t finely_aligned_segments = 0;  // segments aligned piece by piece between finer reversals
 };
 
 struct Comparison {
@@ -85,7 +91,7 @@ void check_compatible(const Segmentation& data, const Segmentation& model, const
 
 // Interpolates the model at every measured row; the segmentations must be compatible.
 Alignment align(const MeasurementFile& data, const Segmentation& data_segments, const MeasurementFile& model,
-                const Segmentation& model_segments);
+                const Segmentation& model_segments, const CompareOptions& options = {});
 
 // Error groups, combined NRMSE and worst lines from an alignment (fills every field of the
 // result but the two segmentations and the alignment).

@@ -37,6 +37,50 @@ const StageInfo* Segmentation::find_stage(int stage) const {
   return nullptr;
 }
 
+void find_reversals(const MeasurementFile& f, std::size_t b, std::size_t e, double h, std::vector<std::size_t>& turns,
+                    int& first_motion) {
+  // A reversal is confirmed once the displacement has come back by more than h from the running
+  // extreme. Before the first stroke is confirmed, small wiggles around the start are noise and
+  // belong to the first segment.
+  const auto& rows = f.rows;
+  auto u = [&](std::size_t i) { return rows[i].shear_disp_mm; };
+  turns.clear();
+  first_motion = 0;
+  if (b >= e) return;
+  int dir = 0;
+  std::size_t ext = b, imin = b, imax = b;
+  for (std::size_t i = b + 1; i < e; ++i) {
+    const double ui = u(i);
+    if (dir == 0) {
+      if (ui > u(imax)) imax = i;
+      if (ui < u(imin)) imin = i;
+      if (u(imax) - ui > h) {
+        dir = first_motion = -1;
+        ext = i;
+      } else if (ui - u(imin) > h) {
+        dir = first_motion = +1;
+        ext = i;
+      }
+    } else if (dir > 0) {
+      if (ui > u(ext)) {
+        ext = i;
+      } else if (u(ext) - ui > h) {
+        turns.push_back(ext);
+        dir = -1;
+        ext = i;
+      }
+    } else {
+      if (ui < u(ext)) {
+        ext = i;
+      } else if (ui - u(ext) > h) {
+        turns.push_back(ext);
+        dir = +1;
+        ext = i;
+      }
+    }
+  }
+}
+
 Segmentation segment(const MeasurementFile& f, const SegmentationOptions& options) {
   Segmentation out;
   const auto& rows = f.rows;
@@ -68,42 +112,8 @@ Segmentation segment(const MeasurementFile& f, const SegmentationOptions& option
                                                          : options.reversal_fraction * (st.u_max - st.u_min);
     st.threshold = h;
 
-    // Turning points by hysteresis: a reversal is confirmed once the displacement has come back
-    // by more than h from the running extreme. Before the first stroke is confirmed, small
-    // wiggles around the start are noise and belong to the first segment.
-    turns.clear();
-    int dir = 0, first_dir = 0;
-    std::size_t ext = b, imin = b, imax = b;
-    for (std::size_t i = b + 1; i < e; ++i) {
-      const double ui = u(i);
-      if (dir == 0) {
-        if (ui > u(imax)) imax = i;
-        if (ui < u(imin)) imin = i;
-        if (u(imax) - ui > h) {
-          dir = first_dir = -1;
-          ext = i;
-        } else if (ui - u(imin) > h) {
-          dir = first_dir = +1;
-          ext = i;
-        }
-      } else if (dir > 0) {
-        if (ui > u(ext)) {
-          ext = i;
-        } else if (u(ext) - ui > h) {
-          turns.push_back(ext);
-          dir = -1;
-          ext = i;
-        }
-      } else {
-        if (ui < u(ext)) {
-          ext = i;
-        } else if (ui - u(ext) > h) {
-          turns.push_back(ext);
-          dir = +1;
-          ext = i;
-        }
-      }
-    }
+    int first_dir = 0;
+    find_reversals(f, b, e, h, turns, first_dir);
 
     st.first_segment = out.segments.size();
     st.segment_count = turns.size() + 1;

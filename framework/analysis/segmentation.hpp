@@ -71,6 +71,13 @@ struct Segmentation {
 // Segments `f`. Never throws on a well-formed file (read_measurement_csv's rules).
 Segmentation segment(const MeasurementFile& f, const SegmentationOptions& options = {});
 
+// Turning points of shear displacement in rows [begin, end) by hysteresis: a reversal counts once
+// the displacement has come back by more than `threshold` [mm] from the running extreme. Writes the
+// turning rows in order into `turns` and the first stroke's direction (+1/-1, 0 if none) into
+// `first_motion`. segment() cuts stages with it; compare also cuts segments finer with it.
+void find_reversals(const MeasurementFile& f, std::size_t begin, std::size_t end, double threshold,
+                    std::vector<std::size_t>& turns, int& first_motion);
+
 // "forward shearing (quadrant 1)", "reverse shearing (quadrant 4)", ... for reports.
 std::string quadrant_phrase(int quadrant);
 

@@ -259,3 +259,28 @@ TEST(Compare, AcceptsSmallEndPointDifferences) {
   strict.endpoint_tolerance = 0.01;
   EXPECT_THROW(compare(d, m, strict), InputError);
 }
+
+TEST(Compare, SmallReversalsWithinASegmentAreAlignedPieceByPiece) {
+  // An earthquake-like stroke: 0.2-0.3 mm back-steps at 10 mm, below the 0.4 mm reversal threshold
+  // (2 % of 20 mm), so 0 -> 20 mm stays one segment; the shear stress flips at each back-step as
+  // a rigid-plastic joint's does. Matching the finer reversals of both records keeps the
+  // alignment exact; first passage over the whole segment would put the flipped stress of a
+  // back-step against the forward stress.
+  StageDef st{1, 1.0,
+              {{{0, 0, 0}, {0.05, 1, 0}, {10, 1, 0.5}},
+               {{10, 1, 0.5}, {9.95, -1, 0.49}, {9.8, -1, 0.48}},
+               {{9.8, -1, 0.48}, {9.85, 1, 0.485}, {10.1, 1, 0.5}},
+               {{10.1, 1, 0.5}, {10.05, -1, 0.49}, {9.9, -1, 0.48}},
+               {{9.9, -1, 0.48}, {9.95, 1, 0.49}, {20, 1, 1.0}},
+               {{20, 1, 1.0}, {19.95, -1, 0.99}, {0, -1, 0.1}}}};
+  const MeasurementFile d = make({st}, false, 0.0, 300, 1.0, 5);
+  const MeasurementFile m = make({st}, true, 0.013, 0, 1e-3);
+  ASSERT_EQ(segment(d).stages[0].segment_count, 2u);
+  const Comparison c = compare(d, m);
+  EXPECT_EQ(c.alignment.finely_aligned_segments, 1u);
+  EXPECT_LT(c.overall.var[0].rmse, 1e-12);
+  EXPECT_LT(c.overall.var[1].rmse, 1e-12);
+  CompareOptions coarse;
+  coarse.fine_fraction = 0.0;
+  EXPECT_GT(compare(d, m, coarse).overall.var[0].rmse, 0.1);
+}
