@@ -58,25 +58,71 @@ def read_record(path):
     return meta, {c: data[:, header.index(c)] for c in COLUMNS}
 
 
+def reversals(u, h):
+    """Turning rows by hysteresis h and the first stroke's direction (as find_reversals in
+    framework/analysis/segmentation.cpp)."""
+    turns, d, first, ext, imin, imax = [], 0, 0, 0, 0, 0
+    for i in range(1, len(u)):
+        x = u[i]
+        if d == 0:
+            imax = i if x > u[imax] else imax
+            imin = i if x < u[imin] else imin
+            if u[imax] - x > h:
+                d = first = -1
+                ext = i
+            elif x - u[imin] > h:
+                d = first = 1
+                ext = i
+        elif d > 0:
+            if x > u[ext]:
+                ext = i
+            elif u[ext] - x > h:
+                turns.append(ext)
+                d, ext = -1, i
+        else:
+            if x < u[ext]:
+                ext = i
+            elif x - u[ext] > h:
+                turns.append(ext)
+                d, ext = 1, i
+    return turns, first
+
+
 def cycle_starts(u):
-    """Row indices where cycles begin: leaving the origin on the first stroke's side after having
-    come back to it (hysteresis of 2 % of the range against noise), as rockdem compare counts them."""
-    h = 0.02 * (u.max() - u.min()) if len(u) else 0.0
-    if h <= 0:
-        return [0]
-    beyond = np.nonzero(np.abs(u) > h)[0]
-    side = np.sign(u[beyond[0]]) if len(beyond) else 1.0
-    starts, left, returned, home = [0], False, False, 0
-    for i, x in enumerate(side * u):
-        if x <= h:
-            home = i
-            returned = returned or left
-            left = False
-        elif x > 2.0 * h:
-            if returned:
-                starts.append(home)
-                returned = False
-            left = True
+    """Rows where cycles begin, by the rule of rockdem compare (segmentation.cpp): a new cycle
+    starts when the joint moves away on the first stroke's side after having come back to the
+    origin; reversals count beyond 2 % of the stage's displacement range."""
+    u = [float(x) for x in u]
+    h = 0.02 * (max(u) - min(u)) if u else 0.0
+    turns, first = reversals(u, h)
+    starts = [0]
+    if first == 0:
+        return starts
+    s0, first_part, prev_reached = 0, True, False
+    for k in range(len(turns) + 1):
+        cb = 0 if k == 0 else turns[k - 1]
+        b = 0 if k == 0 else turns[k - 1] + 1
+        e = turns[k] + 1 if k < len(turns) else len(u)
+        m = first if k % 2 == 0 else -first
+        start_side = (1 if u[cb] > 0 else -1) if abs(u[cb]) > h else m
+        if start_side == m:
+            parts = [(b, e, m, True, False)]
+        elif m * u[e - 1] > h:
+            r = b
+            while r < e and m * u[r] < 0:
+                r += 1
+            parts = [(b, r, -m, False, True), (r, e, m, True, False)]
+        else:
+            parts = [(b, e, -m, False, abs(u[e - 1]) <= h)]
+        for pb, pe, side, away, reached in parts:
+            if pb == pe:
+                prev_reached = prev_reached or reached
+                continue
+            s0 = s0 or side
+            if away and side == s0 and not first_part and prev_reached:
+                starts.append(pb)
+            prev_reached = not away and reached
+            first_part = False
     return starts
 
 

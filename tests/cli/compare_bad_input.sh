@@ -100,6 +100,13 @@ expect good_pair 0 --data "$tmp/data.csv" --model "$tmp/offset.csv" --json "$tmp
 grep -qF '"combined"' "$tmp/out.json" && grep -qF '"segments"' "$tmp/out.json" ||
   { echo "FAIL good_pair: JSON lacks nrmse.combined or segments"; fail=1; }
 expect identical 0 --data "$tmp/data.csv" --model "$tmp/data.csv" -- "combined NRMSE (mean of the two): 0.0000"
+# --plot through Debian's python (skipped, and said so, where it has no matplotlib).
+if /usr/bin/python3 -c "import matplotlib" 2>/dev/null; then
+  expect plot 0 --data "$tmp/data.csv" --model "$tmp/offset.csv" --plot "$tmp/fig" --quiet --
+  [ -s "$tmp/fig/offset.png" ] || { echo "FAIL plot: no $tmp/fig/offset.png"; fail=1; }
+else
+  echo "skip plot: /usr/bin/python3 has no matplotlib"
+fi
 
 # The case-level form runs the element test first; compared with that test's own record: zero.
 case_file="$src/cases/direct_shear/test09_mohr_coulomb.toml"
