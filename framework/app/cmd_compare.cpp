@@ -79,10 +79,9 @@ const CommandRegistrar reg{Command{
       auto plot = std::make_shared<std::string>();
       auto quiet = std::make_shared<bool>(false);
       auto opt = std::make_shared<CompareOptions>();
-      sub.add_option("--data", *data, "measured record (measurement CSV)")->required();
-      auto* model_opt = sub.add_option("--model", *model, "model record (measurement CSV, e.g. from rockdem element)");
-      auto* case_opt = sub.add_option("--case", *case_file, "laboratory-test case to run as an element test instead of --model");
-      model_opt->excludes(case_opt);
+      sub.add_option("--data", *data, "measured record (measurement CSV); required");
+      sub.add_option("--model", *model, "model record (measurement CSV, e.g. from rockdem element)");
+      sub.add_option("--case", *case_file, "laboratory-test case to run as an element test instead of --model");
       sub.add_option("--save-model", *save_model, "with --case: write the model record here");
       sub.add_option("--json", *json, "write the full comparison as JSON to this file");
       sub.add_option("--plot", *plot, "write the figure <model name>.png into this folder");
@@ -96,9 +95,17 @@ const CommandRegistrar reg{Command{
           ->check(CLI::Range(0.0, 1.0))
           ->capture_default_str();
       return [=]() -> int {
+        // Checked here rather than by CLI11 so that every bad input exits with 2 and a sentence.
+        if (data->empty()) throw InputError("rockdem compare: --data MEASURED.csv is required");
+        if (model->empty() == case_file->empty()) {
+          throw InputError("rockdem compare: give --model FILE.csv or --case CASE.toml" +
+                           std::string(model->empty() ? "" : ", not both"));
+        }
+        if (!save_model->empty() && case_file->empty()) {
+          throw InputError("rockdem compare: --save-model goes with --case (with --model the record is already a file)");
+        }
         const auto t0 = std::chrono::steady_clock::now();
         const MeasurementFile d = read_measurement_csv(*data);
-        if (model->empty() == case_file->empty()) throw InputError("rockdem compare: give --model FILE.csv or --case CASE.toml");
         MeasurementFile m;
         std::string model_csv = *model;  // the model record on disk (the plot script reads files)
         double ms_run = 0.0;

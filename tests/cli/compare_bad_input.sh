@@ -121,6 +121,10 @@ else
 fi
 expect case_missing 2 --data "$tmp/data.csv" --case "$tmp/none.toml" -- "none.toml: case file not found"
 expect no_model 2 --data "$tmp/data.csv" -- "give --model FILE.csv or --case CASE.toml"
+expect both_models 2 --data "$tmp/data.csv" --model "$tmp/data.csv" --case "$case_file" -- "not both"
+expect no_data 2 --model "$tmp/data.csv" -- "--data MEASURED.csv is required"
+expect save_without_case 2 --data "$tmp/data.csv" --model "$tmp/data.csv" --save-model "$tmp/x.csv" -- \
+  "--save-model goes with --case"
 expect case_other_path 2 --data "$tmp/data.csv" --case "$case_file" -- "data.csv vs $case_file" "different stages" "the model 1, 2, 3"
 
 exit $fail
