@@ -77,7 +77,7 @@ toml::table direct_shear_case_table(const LabTest& test, const DirectShearOption
 
   toml::table root;
   root.insert("title", (test.title.empty() ? test.specimen : test.title) + " (DEM specimen, Figure 4-7 model)");
-  root.insert("model", toml::table{{"rounding", q(dem.rounding, "m")}, {"detection_tolerance", q(2.0 * dem.rounding, "m")}});
+  root.insert("model", toml::table{{"rounding", q(dem.rounding, "m")}, {"detection_tolerance", q(dem.detection_tolerance, "m")}});
   toml::table time{{"dt_safety", dem.dt_safety}, {"refresh_interval", 10}};
   if (mass_scaling_dt > 0.0) time.insert("mass_scaling_dt", q(mass_scaling_dt, "s"));
   root.insert("time", std::move(time));
@@ -95,7 +95,11 @@ toml::table direct_shear_case_table(const LabTest& test, const DirectShearOption
   toml::table interface{{"name", "loading_interface"}, {"law", "coulomb_slip"},   {"between", toml::array{"loader", "top"}},
                         {"kn", "200000 MPa/m"},        {"ks", "20000 MPa/m"},     {"friction", "0 deg"},
                         {"tension", "10000 MPa"},      {"residual_after_failure", false}};
-  root.insert("joints", toml::array{std::move(joint), std::move(interface)});
+  // With a large detection distance (a strongly dilating joint) the loading block may be found
+  // near the bottom block: a frictionless contact, as the loader against the shear box.
+  toml::table loader_bottom{{"name", "loader_bottom"}, {"law", "coulomb_slip"}, {"between", toml::array{"loader", "bottom"}},
+                            {"kn", "200000 MPa/m"},     {"ks", "20000 MPa/m"},    {"friction", "0 deg"}};
+  root.insert("joints", toml::array{std::move(joint), std::move(interface), std::move(loader_bottom)});
   root.insert("blocks", toml::array{
                             toml::table{{"name", "bottom"}, {"type", "deformable"}, {"material", "rock"},
                                         {"rectangle", rectangle(0.0, -H, bottom_length, H)}, {"zone_size", q(dem.zone_size, "m")}},

@@ -44,13 +44,18 @@ struct ElementSettings {
 };
 
 struct DemTable {
-  double zone_size, rounding, shear_velocity, mass_scaling_dt, dt_safety;
+  double zone_size, rounding, detection_tolerance, shear_velocity, mass_scaling_dt, dt_safety;
   int history_interval;
   static std::vector<Param<DemTable>> spec() {
     using P = DemTable;
     return {
         real("zone_size", &P::zone_size, Dimension::length, "zone size of the deformable specimen blocks").positive().def(0.01),
         real("rounding", &P::rounding, Dimension::length, "corner rounding length of the blocks").positive().def(5e-4),
+        real("detection_tolerance", &P::detection_tolerance, Dimension::length,
+             "contacts are found this far beyond the rounding; must exceed the joint's dilation, or points that "
+             "come into contact on a dilated joint are missed")
+            .positive()
+            .def(5e-3),
         real("shear_velocity", &P::shear_velocity, Dimension::velocity,
              "cycles paths run at this speed in the DEM run (0: the stage's own velocity, i.e. the laboratory rate)")
             .non_negative()
@@ -291,7 +296,8 @@ LabTest read_lab_test(const std::string& file) {
     const auto* t = optional_table(root, file, "dem");
     const auto s = t ? bind_params<DemTable>(raw_values(*t, file, "dem"), "[dem]", table_where(*t, file, "dem"))
                      : bind_params<DemTable>({}, "[dem]", file);
-    c.dem = DemSettings{s.zone_size, s.rounding, s.shear_velocity, s.mass_scaling_dt, s.dt_safety, s.history_interval};
+    c.dem = DemSettings{s.zone_size,       s.rounding,        s.detection_tolerance, s.shear_velocity,
+                        s.mass_scaling_dt, s.dt_safety,       s.history_interval};
   }
 
   // [joint]

@@ -34,6 +34,7 @@ struct SpecimenRock {
 struct DemSettings {
   double zone_size = 0.01;       // [m]
   double rounding = 5e-4;        // corner rounding length [m]
+  double detection_tolerance = 5e-3;  // contacts are found this far beyond the rounding [m]
   double shear_velocity = 0.0;   // cycles paths run at this speed instead of the stage's (0: the stage's) [m/s]
   double mass_scaling_dt = 0.0;  // scale inertial masses so that this step is stable (0: real masses) [s]
   double dt_safety = 0.5;

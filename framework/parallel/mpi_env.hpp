@@ -20,6 +20,7 @@ class MpiEnvironment {
   int rank_ = 0;
   int size_ = 1;
   bool finalized_ = false;
+  bool active_ = true;  // MPI initialised (false: a plain start, one process)
 };
 
 }  // namespace rockdem
