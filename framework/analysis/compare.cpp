@@ -160,7 +160,9 @@ SegmentationOptions model_segmentation_options(const Segmentation& data) {
   return o;
 }
 
-void check_compatible(const Segmentation& data, const Segmentation& model, const CompareOptions& options) {
+namespace {
+
+void check_stage_lists(const Segmentation& data, const Segmentation& model) {
   bool same_stages = data.stages.size() == model.stages.size();
   for (std::size_t i = 0; same_stages && i < data.stages.size(); ++i)
     same_stages = data.stages[i].stage == model.stages[i].stage;
@@ -168,47 +170,64 @@ void check_compatible(const Segmentation& data, const Segmentation& model, const
     throw InputError("different stages: the measurement has stage(s) " + stage_list(data) + ", the model " +
                      stage_list(model));
   }
+}
+
+// What differs between stage i of the two records ("" if nothing); `structural` is set when it is
+// the reversals (their number or where they are), which depend on the reversal threshold.
+std::string stage_mismatch(const Segmentation& data, const Segmentation& model, std::size_t i,
+                           const CompareOptions& options, bool& structural) {
+  structural = false;
+  const StageInfo& d = data.stages[i];
+  const StageInfo& m = model.stages[i];
+  const std::string st = "stage " + std::to_string(d.stage) + ": ";
+  const double sn_tol = options.normal_stress_tolerance * std::abs(d.normal_stress_MPa) + 0.01;
+  if (std::abs(d.normal_stress_MPa - m.normal_stress_MPa) > sn_tol) {
+    return st + "different normal stress: the measurement " + fmt("%.4g", d.normal_stress_MPa) + " MPa, the model " +
+           fmt("%.4g", m.normal_stress_MPa) + " MPa (medians; allowed difference " + fmt("%.2g", sn_tol) + " MPa)";
+  }
+  if (d.first_side != m.first_side) {
+    return st + "opposite first strokes: the measurement first shears toward the " + side_word(d.first_side) +
+           " side, the model toward the " + side_word(m.first_side) + " side";
+  }
+  const double amplitude = std::max(std::abs(d.u_min), std::abs(d.u_max));
+  const double tol = options.endpoint_tolerance * amplitude;
+  const std::string allowed = " (allowed difference " + fmt("%.3g", tol) + " mm, " +
+                              fmt("%.3g", 100.0 * options.endpoint_tolerance) + " % of the amplitude " +
+                              fmt("%.4g", amplitude) + " mm)";
+  if (std::abs(d.u_max - m.u_max) > tol || std::abs(d.u_min - m.u_min) > tol) {
+    return st + "different shear paths: the measurement spans " + fmt("%+.4g", d.u_min) + " .. " +
+           fmt("%+.4g", d.u_max) + " mm, the model " + fmt("%+.4g", m.u_min) + " .. " + fmt("%+.4g", m.u_max) + " mm" +
+           allowed;
+  }
+  structural = true;
+  if (d.segment_count != m.segment_count || d.cycles != m.cycles) {
+    return st + "different shear paths: the measurement has " + plural(d.segment_count - 1, "reversal") + " (" +
+           plural(static_cast<std::size_t>(d.cycles), "cycle") + "), the model " +
+           plural(m.segment_count - 1, "reversal") + " (" + plural(static_cast<std::size_t>(m.cycles), "cycle") + ")";
+  }
+  for (std::size_t k = 0; k < d.segment_count; ++k) {
+    const Segment& ds = data.segments[d.first_segment + k];
+    const Segment& ms = model.segments[m.first_segment + k];
+    if (std::abs(ds.u_end - ms.u_end) > tol) {
+      const bool last = k + 1 == d.segment_count;
+      return st + "different shear paths: " +
+             (last ? std::string("the stage ends") : "reversal " + std::to_string(k + 1) + " is") + " at " +
+             fmt("%+.4g", ds.u_end) + " mm in the measurement, " + fmt("%+.4g", ms.u_end) + " mm in the model" +
+             allowed;
+    }
+  }
+  structural = false;
+  return {};
+}
+
+}  // namespace
+
+void check_compatible(const Segmentation& data, const Segmentation& model, const CompareOptions& options) {
+  check_stage_lists(data, model);
+  bool structural = false;
   for (std::size_t i = 0; i < data.stages.size(); ++i) {
-    const StageInfo& d = data.stages[i];
-    const StageInfo& m = model.stages[i];
-    const std::string st = "stage " + std::to_string(d.stage) + ": ";
-    const double sn_tol = options.normal_stress_tolerance * std::abs(d.normal_stress_MPa) + 0.01;
-    if (std::abs(d.normal_stress_MPa - m.normal_stress_MPa) > sn_tol) {
-      throw InputError(st + "different normal stress: the measurement " + fmt("%.4g", d.normal_stress_MPa) +
-                       " MPa, the model " + fmt("%.4g", m.normal_stress_MPa) + " MPa (medians; allowed difference " +
-                       fmt("%.2g", sn_tol) + " MPa)");
-    }
-    if (d.first_side != m.first_side) {
-      throw InputError(st + "opposite first strokes: the measurement first shears toward the " +
-                       side_word(d.first_side) + " side, the model toward the " + side_word(m.first_side) + " side");
-    }
-    const double amplitude = std::max(std::abs(d.u_min), std::abs(d.u_max));
-    const double tol = options.endpoint_tolerance * amplitude;
-    const std::string allowed = " (allowed difference " + fmt("%.3g", tol) + " mm, " +
-                                fmt("%.3g", 100.0 * options.endpoint_tolerance) + " % of the amplitude " +
-                                fmt("%.4g", amplitude) + " mm)";
-    if (std::abs(d.u_max - m.u_max) > tol || std::abs(d.u_min - m.u_min) > tol) {
-      throw InputError(st + "different shear paths: the measurement spans " + fmt("%+.4g", d.u_min) + " .. " +
-                       fmt("%+.4g", d.u_max) + " mm, the model " + fmt("%+.4g", m.u_min) + " .. " +
-                       fmt("%+.4g", m.u_max) + " mm" + allowed);
-    }
-    if (d.segment_count != m.segment_count || d.cycles != m.cycles) {
-      throw InputError(st + "different shear paths: the measurement has " + plural(d.segment_count - 1, "reversal") +
-                       " (" + plural(static_cast<std::size_t>(d.cycles), "cycle") + "), the model " +
-                       plural(m.segment_count - 1, "reversal") + " (" +
-                       plural(static_cast<std::size_t>(m.cycles), "cycle") + ")");
-    }
-    for (std::size_t k = 0; k < d.segment_count; ++k) {
-      const Segment& ds = data.segments[d.first_segment + k];
-      const Segment& ms = model.segments[m.first_segment + k];
-      if (std::abs(ds.u_end - ms.u_end) > tol) {
-        const bool last = k + 1 == d.segment_count;
-        throw InputError(st + "different shear paths: " +
-                         (last ? std::string("the stage ends") : "reversal " + std::to_string(k + 1) + " is") +
-                         " at " + fmt("%+.4g", ds.u_end) + " mm in the measurement, " + fmt("%+.4g", ms.u_end) +
-                         " mm in the model" + allowed);
-      }
-    }
+    const std::string why = stage_mismatch(data, model, i, options, structural);
+    if (!why.empty()) throw InputError(why);
   }
 }
 
@@ -350,8 +369,36 @@ Comparison compare(const MeasurementFile& data, const Segmentation& dseg, const 
   if (model.rows.empty()) throw InputError("the model has no data rows");
   Comparison c;
   c.data_segments = dseg;
-  c.model_segments = segment(model, model_segmentation_options(dseg));
-  check_compatible(c.data_segments, c.model_segments, options);
+  SegmentationOptions thresholds = model_segmentation_options(dseg);
+  c.model_segments = segment(model, thresholds);
+  check_stage_lists(c.data_segments, c.model_segments);
+  // A reversal close to the threshold may show in one record and not in the other (noise, a
+  // compliant frame rounding it off). Where only the reversals differ, the stage's threshold is
+  // raised step by step until both records agree; the finer reversals are still used for the
+  // alignment where they match. Real differences (another cycle, a full-amplitude reversal) do
+  // not vanish below half the range and are refused with the message of the default threshold.
+  for (std::size_t i = 0; i < c.data_segments.stages.size(); ++i) {
+    bool structural = false;
+    const std::string why = stage_mismatch(c.data_segments, c.model_segments, i, options, structural);
+    if (why.empty()) continue;
+    if (!structural) throw InputError(why);
+    const int stage = c.data_segments.stages[i].stage;
+    const double base = thresholds.threshold_mm[stage];
+    bool agreed = false;
+    for (double f : {1.5, 2.0, 3.0, 4.0, 6.0, 8.0}) {
+      thresholds.threshold_mm[stage] = f * base;
+      c.data_segments = segment(data, thresholds);
+      c.model_segments = segment(model, thresholds);
+      if (stage_mismatch(c.data_segments, c.model_segments, i, options, structural).empty()) {
+        agreed = true;
+        c.notes.push_back("stage " + std::to_string(stage) + ": reversal threshold raised from " + fmt("%.3g", base) +
+                          " mm to " + fmt("%.3g", f * base) + " mm so that both records show the same reversals (" +
+                          why.substr(why.find("the measurement")) + " at the default)");
+        break;
+      }
+    }
+    if (!agreed) throw InputError(why);
+  }
   c.alignment = align(data, c.data_segments, model, c.model_segments, options);
   summarize(data, c.data_segments, c.alignment, options, c);
   return c;
@@ -406,6 +453,7 @@ nlohmann::json to_json(const Comparison& c) {
                                {"mean_abs_measured", s.mean_abs_measured}});
     }
   j["worst"] = c.worst;
+  j["notes"] = c.notes;
   j["alignment"] = {{"method", "shear displacement within stage and monotonic segment (first passage, linear)"},
                     {"measured_rows", c.data_segments.labels.size()},
                     {"rows_beyond_model_segment_ends", c.alignment.outside},

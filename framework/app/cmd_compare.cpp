@@ -153,6 +153,7 @@ const CommandRegistrar reg{Command{
                       data->c_str(), d.rows.size(), c.data_segments.stages.size(), model_name.c_str(), m.rows.size());
           if (!case_file->empty()) std::printf("(element test of %s run in %.1f ms)\n", case_file->c_str(), ms_run);
           std::printf("%s", format_table(c).c_str());
+          for (const auto& n : c.notes) std::printf("note: %s\n", n.c_str());
           if (c.alignment.outside > 0) {
             std::printf("note: %zu measured rows lie beyond the ends of the model's matching segment (end value used)\n",
                         c.alignment.outside);
