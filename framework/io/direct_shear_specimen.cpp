@@ -74,6 +74,14 @@ toml::table direct_shear_case_table(const LabTest& test, const DirectShearOption
   // 20 mm wide against the top block's left face.
   const double L = test.joint_length, H = 0.102, offset = 0.051;
   const double bottom_length = std::max(0.305, L + 2.0 * offset);
+  // The loading block's centroid is at the top block's mid-height (no moment at the start), and its
+  // lower edge stays above the joint by more than the joint can dilate (the detection distance):
+  // were the top block's lower corner to rise past the loader's, the non-separating interface
+  // would hold that corner in tension and tear the specimen.
+  const double clearance = std::max(0.06 * H, dem.detection_tolerance + dem.rounding);
+  if (H - 2.0 * clearance < 0.01)
+    throw InputError(test.file + ": [dem] detection_tolerance = " + q(dem.detection_tolerance, "m") +
+                     " leaves the loading block no height on the 102 mm specimen; valid: below 45 mm");
 
   toml::table root;
   root.insert("title", (test.title.empty() ? test.specimen : test.title) + " (DEM specimen, Figure 4-7 model)");
@@ -106,7 +114,7 @@ toml::table direct_shear_case_table(const LabTest& test, const DirectShearOption
                             toml::table{{"name", "top"}, {"type", "deformable"}, {"material", "rock"},
                                         {"rectangle", rectangle(offset, 0.0, L, H)}, {"zone_size", q(dem.zone_size, "m")}},
                             toml::table{{"name", "loader"}, {"type", "rigid"}, {"density", "2420 kg/m3"},
-                                        {"rectangle", rectangle(offset - 0.02, 0.06 * H, 0.02, 0.88 * H)}},
+                                        {"rectangle", rectangle(offset - 0.02, clearance, 0.02, H - 2.0 * clearance)}},
                         });
   toml::array boundary{
       toml::table{{"type", "fixed"}, {"block", "bottom"}, {"face", "bottom"}, {"components", toml::array{"y"}}},
