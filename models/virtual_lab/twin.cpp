@@ -254,10 +254,16 @@ TwinRun run_twin(const TwinCase& c, std::optional<std::uint64_t> seed) {
     std::string value;
     std::visit(
         [&](auto m) {
-          using M = std::remove_reference_t<decltype(c.settings.*m)>;
+          using M = std::remove_cvref_t<decltype(c.settings.*m)>;
           if constexpr (std::is_same_v<M, double>) {
-            value = p.info.dim == Dimension::dimensionless ? shortest(c.settings.*m)
-                                                           : format_quantity(c.settings.*m, p.info.dim);
+            const double v = c.settings.*m;
+            if (p.info.dim == Dimension::dimensionless) {
+              value = shortest(v);
+            } else if (p.info.dim == Dimension::angle) {
+              value = shortest(v * 180.0 / 3.141592653589793) + " deg";
+            } else {
+              value = shortest(v) + " " + std::string(si_unit(p.info.dim));
+            }
           } else if constexpr (std::is_same_v<M, bool>) {
             value = c.settings.*m ? "true" : "false";
           } else {
