@@ -7,6 +7,10 @@
 //     static void init(const Params&, State&);
 //     static void modify(const Params&, State&, ShearContext&); // before the base law's yield check
 //     static void after(const Params&, State&, const ShearContext&, const JointResponse&);
+//     // optional, replaces the base law's normal stress-closure relation (closure v > 0 closes):
+//     static double normal_stress(const Params&, double v);
+//     static double normal_closure(const Params&, double sigma_n);
+//     static double normal_tangent(const Params&, double v);
 //   };
 //   ROCKDEM_REGISTER_EFFECT(MyEffect, "summary", "reference");
 // An effect with enabled = false must leave the base law's results identical, bit for bit.
@@ -44,6 +48,20 @@ class EffectAdapter final : public EffectBase {
     std::memcpy(&st, s, sizeof(State));
     Effect::after(p_, st, ctx, r);
     std::memcpy(s, &st, sizeof(State));
+  }
+  static constexpr bool kHasNormal = requires(const Params& q) { Effect::normal_stress(q, 0.0); };
+  bool has_normal() const override { return kHasNormal && p_.enabled; }
+  double normal_stress(double v) const override {
+    if constexpr (kHasNormal) return Effect::normal_stress(p_, v);
+    return 0.0;
+  }
+  double normal_closure(double sigma) const override {
+    if constexpr (kHasNormal) return Effect::normal_closure(p_, sigma);
+    return 0.0;
+  }
+  double normal_tangent(double v) const override {
+    if constexpr (kHasNormal) return Effect::normal_tangent(p_, v);
+    return 0.0;
   }
 
  private:

@@ -155,28 +155,34 @@ double BartonBandis::strength(const Params& p, const Derived& d, double delta, d
 void BartonBandis::init(const Params&, State& s) { s = State{}; }
 
 namespace {
-// Normal stress for an elastic closure v (>= 0), and its tangent stiffness.
+// Normal stress for an elastic closure v (>= 0), and its tangent stiffness: linear, the Bandis
+// hyperbola, or the relation of a normal-response effect (which then replaces the law's own).
 struct Closure {
   bool hyperbolic;
-  double kn, kni, vm;
+  double kn;
+  law_support::BandisHyperbola bandis;
+  const EffectBase* hook;
   double sigma(double v) const {
-    if (!hyperbolic) return kn * v;
-    const double vv = std::min(v, vm * (1.0 - 1e-9));  // the hyperbola's asymptote at Vm
-    return kni * vv / (1.0 - vv / vm);
+    if (hook) return hook->normal_stress(v);
+    return hyperbolic ? bandis.sigma(v) : kn * v;
   }
-  double closure(double sigma_n) const { return hyperbolic ? sigma_n * vm / (kni * vm + sigma_n) : sigma_n / kn; }
   double tangent(double v) const {
-    if (!hyperbolic) return kn;
-    const double q = 1.0 - std::min(v, vm * (1.0 - 1e-9)) / vm;
-    return kni / (q * q);
+    if (hook) return hook->normal_tangent(v);
+    return hyperbolic ? bandis.tangent(v) : kn;
   }
+};
+
+// The law's parameters with their derived values, for ShearContext::roughness_at.
+struct RoughnessView {
+  const BartonBandis::Params* p;
+  const BartonBandis::Derived* d;
 };
 }  // namespace
 
 void BartonBandis::update(const Params& p, State& s, const JointKinematics& k, JointResponse& r,
                           EffectChain& chain) {
   const Derived d = derive(p);
-  const Closure cl{p.normal_closure == 1, p.kn, d.kni, d.vm};
+  const Closure cl{p.normal_closure == 1, p.kn, {d.kni, d.vm}, chain.normal()};
   const double u_s_before = s.u_s;
   s.u_s += k.du_s;
   s.u_n += k.du_n;
@@ -206,10 +212,17 @@ void BartonBandis::update(const Params& p, State& s, const JointKinematics& k, J
   ctx.du_s = k.du_s;
   ctx.plastic_slip = s.delta;
   ctx.basic_friction = p.residual_friction;
-  ctx.roughness_angle = m_tr;
+  ctx.roughness_angle = std::max(0.0, m_tr);  // the negative pre-peak JRC_mob is not an asperity angle
   ctx.strength = strength_tr;
   ctx.dilation_rate = sign * std::tan(0.5 * std::max(0.0, m_tr));  // eq. 3-7
   ctx.toward_origin = u_s_before * k.du_s < 0.0;
+  ctx.dt = k.dt;
+  const RoughnessView view{&p, &d};
+  ctx.roughness_at = [](const void* law, double slip, double sigma_n) {
+    const auto& v = *static_cast<const RoughnessView*>(law);
+    return std::max(0.0, mobilised_roughness(*v.p, *v.d, slip, sigma_n));
+  };
+  ctx.law = &view;
   chain.modify(ctx);
   const law_support::StrengthChange effects(strength_tr, ctx.strength);
   const double rate = ctx.dilation_rate;

@@ -121,8 +121,8 @@ void ContinuouslyYielding::update(const Params& p, State& s, const JointKinemati
   s.u_n += k.du_n;
   r = JointResponse{};
   // Normal stiffness of this increment from the normal stress at its start (explicit, as UDEC).
-  const double kn = normal_stiffness(p, s.sigma_n);
-  r.kn = kn;
+  const law_support::NormalRelation nr{chain.normal(), normal_stiffness(p, s.sigma_n)};
+  r.kn = nr.tangent(s.gap > 0.0 ? 0.0 : s.sigma_n);
   auto finish_open = [&] {
     s.r = 0.0;
     r.ks = shear_stiffness(p, 0.0);
@@ -132,10 +132,10 @@ void ContinuouslyYielding::update(const Params& p, State& s, const JointKinemati
   if (s.gap > 0.0) {
     s.gap += k.du_n;
     if (s.gap > 0.0) return finish_open();
-    sigma_tr = -kn * s.gap;
+    sigma_tr = nr.stress(-s.gap);
     s.gap = 0.0;
   } else {
-    sigma_tr = s.sigma_n - kn * k.du_n;
+    sigma_tr = nr.add(s.sigma_n, -k.du_n);
   }
 
   const double sign = law_support::dilation_sign(p.dilation, u_s_before, k.du_s, p.critical_shear_disp,
@@ -156,6 +156,12 @@ void ContinuouslyYielding::update(const Params& p, State& s, const JointKinemati
   ctx.strength = bound_tr;
   ctx.dilation_rate = sign * std::tan(psi);  // eq. 3-16
   ctx.toward_origin = u_s_before * k.du_s < 0.0;
+  ctx.dt = k.dt;
+  ctx.roughness_at = [](const void* law, double slip, double) {
+    const auto& q = *static_cast<const Params*>(law);
+    return phi_m(q, slip) - q.friction;
+  };
+  ctx.law = &p;
   chain.modify(ctx);
   const law_support::StrengthChange effects(bound_tr, ctx.strength);
   const double rate = ctx.dilation_rate;
@@ -201,7 +207,7 @@ void ContinuouslyYielding::update(const Params& p, State& s, const JointKinemati
       }
     }
     ddil = rate * (up - s.plastic_slip);
-    return sigma_tr + kn * ddil;
+    return nr.add(sigma_tr, ddil);
   };
   if (rate == 0.0) {
     step(sigma_tr);  // no dilation: the trial stress is final
@@ -211,9 +217,9 @@ void ContinuouslyYielding::update(const Params& p, State& s, const JointKinemati
 
   // No tensile strength: the joint opens if the stress after the increment's dilation is tensile
   // (the shear increment then acted on no contact and is discarded).
-  const double sigma_final = sigma_tr + kn * ddil;
+  const double sigma_final = nr.add(sigma_tr, ddil);
   if (sigma_final < 0.0) {
-    s.gap = -std::min(sigma_tr, sigma_final) / kn;
+    s.gap = -nr.closure(std::min(sigma_tr, sigma_final));
     return finish_open();
   }
   const double dus_p = k.du_s - (tau - tau_old) / ks;
@@ -225,6 +231,7 @@ void ContinuouslyYielding::update(const Params& p, State& s, const JointKinemati
   s.sigma_n = sigma_final;
   s.tau = tau;
   r.ks = ks;
+  if (nr.hook) r.kn = nr.tangent(sigma_final);
   law_support::report(s, r);
   r.slipping = up > up_before;
   r.dissipated = 0.5 * (tau + tau_old) * dus_p;

@@ -61,6 +61,15 @@ struct ShearContext {
   double strength = 0.0;         // bounding shear strength, magnitude [Pa]; effects may change it
   double dilation_rate = 0.0;    // d(dilation)/d|du_s^p| with its sign; effects may change it
   bool toward_origin = false;    // the increment moves back toward the mated position
+  double dt = 0.0;               // time increment [s] (0: pseudo-static)
+  // The base law's roughness angle [rad] at a given value of its own wear measure (the
+  // `plastic_slip` above) and normal stress, as on a virgin surface: lets an effect ask what a
+  // surface worn less than the law's single history would offer (directional_wear). Optional.
+  double (*roughness_at)(const void* law, double slip, double sigma_n) = nullptr;
+  const void* law = nullptr;  // first argument of roughness_at
+  double roughness(double slip, double sigma) const {
+    return roughness_at ? roughness_at(law, slip, sigma) : roughness_angle;
+  }
 };
 
 // Type-erased effect (see models/effects/effect.hpp for the typed form).
@@ -73,6 +82,15 @@ class EffectBase {
   virtual void init(std::byte* state) const = 0;
   virtual void modify(std::byte* state, ShearContext& ctx) const = 0;
   virtual void after(std::byte* state, const ShearContext& ctx, const JointResponse& r) const = 0;
+  // Optional normal-response hook: an effect that replaces the base law's normal stress-closure
+  // relation returns true here and defines the three functions (closure v > 0 compresses,
+  // sigma compression positive; pure functions of the parameters). Laws reach it through
+  // EffectChain::normal(), which is null unless such an effect is present and enabled, so laws
+  // and effects without it are untouched and pay no virtual call.
+  virtual bool has_normal() const { return false; }
+  virtual double normal_stress(double /*closure*/) const { return 0.0; }
+  virtual double normal_closure(double /*sigma_n*/) const { return 0.0; }
+  virtual double normal_tangent(double /*closure*/) const { return 0.0; }
 };
 
 // Ordered list of effects with the offsets of their state in the contact's state block. A base
@@ -82,8 +100,10 @@ class EffectChain {
  public:
   EffectChain() = default;
   EffectChain(const std::vector<const EffectBase*>* effects, const std::vector<std::size_t>* offsets,
-              std::byte* block)
-      : effects_(effects), offsets_(offsets), block_(block) {}
+              std::byte* block, const EffectBase* normal = nullptr)
+      : effects_(effects), offsets_(offsets), block_(block), normal_(normal) {}
+  // The effect that defines the normal response, or null (the law's own relation applies).
+  const EffectBase* normal() const { return normal_; }
   void modify(ShearContext& ctx) {
     last_ = ctx;
     if (!effects_) return;
@@ -99,6 +119,7 @@ class EffectChain {
   const std::vector<const EffectBase*>* effects_ = nullptr;
   const std::vector<std::size_t>* offsets_ = nullptr;
   std::byte* block_ = nullptr;
+  const EffectBase* normal_ = nullptr;
   ShearContext last_{};
 };
 
@@ -168,7 +189,8 @@ class JointModel {
   const JointLawBase& law() const { return *law_; }
   std::size_t effect_count() const { return effects_.size(); }
   std::string description() const;  // "continuously_yielding + a + b"
-  double initial_kn() const { return law_->initial_kn(); }
+  // The law's, or the normal-response effect's tangent at zero closure.
+  double initial_kn() const { return normal_ ? normal_->normal_tangent(0.0) : law_->initial_kn(); }
   double initial_ks() const { return law_->initial_ks(); }
 
  private:
@@ -176,6 +198,7 @@ class JointModel {
   std::vector<std::unique_ptr<EffectBase>> owned_;
   std::vector<const EffectBase*> effects_;
   std::vector<std::size_t> offsets_;
+  const EffectBase* normal_ = nullptr;  // last enabled effect with a normal hook
 };
 
 // Build a joint model from a law name, its parameter values, and effects (name + values), each in

@@ -14,6 +14,7 @@ JointModel::JointModel(std::unique_ptr<JointLawBase> law, std::vector<std::uniqu
     offsets_.push_back(off);
     effects_.push_back(e.get());
     off += e->state_size();
+    if (e->has_normal()) normal_ = e.get();
   }
   if (off > kJointStateBytes) {
     throw InputError("joint model '" + description() + "' needs " + std::to_string(off) +
@@ -28,7 +29,7 @@ void JointModel::init(JointStateBlock& s) const {
 }
 
 void JointModel::update(JointStateBlock& s, const JointKinematics& k, JointResponse& r) const {
-  EffectChain chain(&effects_, &offsets_, s.bytes.data());
+  EffectChain chain(&effects_, &offsets_, s.bytes.data(), normal_);
   law_->update(s.bytes.data(), k, r, chain);
   chain.after(r);
 }

@@ -70,6 +70,39 @@ struct StrengthChange {
   double operator()(double strength) const { return std::max(0.0, strength * factor + offset); }
 };
 
+// Hyperbolic normal closure of Bandis, Lumsden & Barton (1983): sigma_n = Kni v / (1 - v/Vm) for
+// a closure v >= 0, with the asymptote at the maximum closure Vm (v is held just below it).
+// Shared by barton_bandis's `normal_closure = "bandis"` and the hyperbolic_normal_closure effect.
+struct BandisHyperbola {
+  double kni, vm;
+  double sigma(double v) const {
+    const double vv = std::min(v, vm * (1.0 - 1e-9));
+    return kni * vv / (1.0 - vv / vm);
+  }
+  double closure(double sigma_n) const { return sigma_n * vm / (kni * vm + sigma_n); }
+  double tangent(double v) const {
+    const double q = 1.0 - std::min(v, vm * (1.0 - 1e-9)) / vm;
+    return kni / (q * q);
+  }
+};
+
+// Normal stress-closure relation of a law with an incremental linear stiffness kn, unless an
+// effect supplies its own (EffectChain::normal()). Without one, every expression is the law's
+// own linear form (kn*(-x) and -(kn*x) are the same double), so results are bit-identical.
+struct NormalRelation {
+  const EffectBase* hook;
+  double kn;
+  double stress(double v) const { return hook ? hook->normal_stress(v) : kn * v; }
+  double closure(double sigma_n) const { return hook ? hook->normal_closure(sigma_n) : sigma_n / kn; }
+  // The normal stress after closing by dv (< 0: opening) from sigma_n.
+  double add(double sigma_n, double dv) const {
+    return hook ? hook->normal_stress(hook->normal_closure(sigma_n) + dv) : sigma_n + kn * dv;
+  }
+  double tangent(double sigma_n) const {
+    return hook ? hook->normal_tangent(std::max(0.0, hook->normal_closure(sigma_n))) : kn;
+  }
+};
+
 // The response fields every law reports from its state.
 template <class State>
 void report(const State& s, JointResponse& r) {

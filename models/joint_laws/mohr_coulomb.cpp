@@ -60,7 +60,8 @@ void MohrCoulomb::update(const Params& p, State& s, const JointKinematics& k, Jo
   s.u_s += k.du_s;
   s.u_n += k.du_n;
   r = JointResponse{};
-  r.kn = p.kn;
+  const law_support::NormalRelation nr{chain.normal(), p.kn};
+  r.kn = nr.tangent(s.gap > 0.0 ? 0.0 : s.sigma_n);
   r.ks = p.ks;
   // Normal trial stress; an open joint carries nothing until the surfaces touch again, and then
   // only the overlap past the touching point loads it. Shear history (slip, dilation) is kept.
@@ -68,10 +69,10 @@ void MohrCoulomb::update(const Params& p, State& s, const JointKinematics& k, Jo
   if (s.gap > 0.0) {
     s.gap += k.du_n;
     if (s.gap > 0.0) return law_support::report_open(s, r);
-    sigma_tr = -p.kn * s.gap;
+    sigma_tr = nr.stress(-s.gap);
     s.gap = 0.0;
   } else {
-    sigma_tr = s.sigma_n - p.kn * k.du_n;
+    sigma_tr = nr.add(s.sigma_n, -k.du_n);
   }
 
   const double sign = law_support::dilation_sign(p.dilation, u_s_before, k.du_s, p.critical_shear_disp,
@@ -84,10 +85,13 @@ void MohrCoulomb::update(const Params& p, State& s, const JointKinematics& k, Jo
   ctx.du_s = k.du_s;
   ctx.plastic_slip = s.plastic_slip;
   ctx.basic_friction = p.friction;
-  ctx.roughness_angle = p.dilation_angle;
+  ctx.roughness_angle = std::abs(u_s_before) < p.critical_shear_disp ? p.dilation_angle : 0.0;  // eq. 3-4
   ctx.strength = strength_tr;
   ctx.dilation_rate = sign * std::tan(p.dilation_angle);
   ctx.toward_origin = u_s_before * k.du_s < 0.0;
+  ctx.dt = k.dt;
+  ctx.roughness_at = [](const void* law, double, double) { return static_cast<const Params*>(law)->dilation_angle; };
+  ctx.law = &p;
   chain.modify(ctx);
   const law_support::StrengthChange effects(strength_tr, ctx.strength);
   const double rate = ctx.dilation_rate;
@@ -102,7 +106,7 @@ void MohrCoulomb::update(const Params& p, State& s, const JointKinematics& k, Jo
     tau = slipping ? std::copysign(strength, tau_tr) : tau_tr;
     dus_p = slipping ? k.du_s - (tau - tau_old) / p.ks : 0.0;  // plastic part of the increment
     ddil = rate * std::abs(dus_p);            // eq. 3-3: psi acts only on plastic slip
-    return sigma_tr + p.kn * ddil;
+    return nr.add(sigma_tr, ddil);
   };
   if (rate == 0.0) {
     step(sigma_tr);  // no dilation: the trial stress is final
@@ -113,9 +117,9 @@ void MohrCoulomb::update(const Params& p, State& s, const JointKinematics& k, Jo
   // Tensile failure (report section 3.1) is judged after the increment's dilation, which pushes
   // the surfaces together under constrained normal displacement: sigma_n becomes zero and the
   // joint opens; the shear increment then acted on no contact and is discarded.
-  const double sigma_final = sigma_tr + p.kn * ddil;
+  const double sigma_final = nr.add(sigma_tr, ddil);
   if (sigma_final < -s.tension) {
-    s.gap = -std::min(sigma_tr, sigma_final) / p.kn;
+    s.gap = -nr.closure(std::min(sigma_tr, sigma_final));
     if (p.residual_after_failure) s.cohesion = s.tension = 0.0;
     return law_support::report_open(s, r);
   }
@@ -124,6 +128,7 @@ void MohrCoulomb::update(const Params& p, State& s, const JointKinematics& k, Jo
   s.dilation += ddil;
   s.sigma_n = sigma_final;
   s.tau = tau;
+  r.kn = nr.tangent(sigma_final);
   law_support::report(s, r);
   r.slipping = slipping;
   r.dissipated = 0.5 * (tau + tau_old) * dus_p;
