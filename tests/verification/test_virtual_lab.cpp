@@ -79,11 +79,6 @@ std::vector<MeasurementRow> quadrant(const MeasurementFile& f, double period, in
   return out;
 }
 
-double max_abs_stress(const std::vector<MeasurementRow>& rows) {
-  double m = 0.0;
-  for (const auto& r : rows) m = std::max(m, std::abs(r.shear_stress_MPa));
-  return m;
-}
 double max_dilation(const std::vector<MeasurementRow>& rows) {
   double m = -1e9;
   for (const auto& r : rows) m = std::max(m, r.normal_disp_mm);
