@@ -1,0 +1,96 @@
+// reverse_shear_degradation: toward the mated position the strength is sigma_n tan(phi_b - w i).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "models/joint_laws/continuously_yielding.hpp"
+#include "tests/unit/effect_test_util.hpp"
+
+using namespace rockdem;
+using namespace rockdem::testutil;
+
+namespace {
+constexpr double kDeg = std::numbers::pi / 180.0;
+// Index of the first row of the return stroke (the row after the largest offset).
+std::size_t first_reverse_row(const MeasurementFile& f) {
+  std::size_t i = 0;
+  while (i + 1 < f.rows.size() && f.rows[i + 1].shear_disp_mm >= f.rows[i].shear_disp_mm) ++i;
+  return i + 1;
+}
+}  // namespace
+
+TEST(EffectReverseShearDegradation, DisabledLeavesEveryLawBitForBitIdentical) {
+  expect_disabled_is_bit_identical({effect("reverse_shear_degradation", {{"enabled", "false"}, {"weight", "3"}})});
+}
+
+// Mohr-Coulomb (phi = 38 deg, psi = 2.4 deg) at 3 MPa, 0 -> 10 mm -> 0: the forward plateau is
+// 3 tan 38 deg, the reverse one exactly 3 tan(38 - 2.4 deg); with w = 2, 3 tan(38 - 4.8 deg).
+TEST(EffectReverseShearDegradation, MohrCoulombReverseStrengthIsPattonsClosedForm) {
+  for (const double w : {1.0, 2.0}) {
+    auto m = model("mohr_coulomb", mc_report({{"dilation", "reversible"}}),
+                   {effect("reverse_shear_degradation", {{"weight", std::to_string(w)}})});
+    ElementDriver d(*m);
+    const auto f = d.run({cnl(3e6, ShearPath::cycles(0.01, 1, 1e-4, true))});
+    const std::size_t rev = first_reverse_row(f);
+    EXPECT_NEAR(max_tau(f, 0, rev), 3.0 * std::tan(38.0 * kDeg), 1e-6);
+    EXPECT_NEAR(min_tau(f, rev, f.rows.size()), -3.0 * std::tan((38.0 - w * 2.4) * kDeg), 1e-6) << w;
+    // and the stress sits on that plateau for most of the return stroke
+    const std::size_t mid = row_at(f, 5.0, rev);
+    ASSERT_LT(mid, f.rows.size());
+    EXPECT_NEAR(f.rows[mid].shear_stress_MPa, -3.0 * std::tan((38.0 - w * 2.4) * kDeg), 1e-6);
+  }
+  // Without the effect the reverse plateau is the forward one (the report's complaint).
+  auto plain = model("mohr_coulomb", mc_report({{"dilation", "reversible"}}));
+  ElementDriver d(*plain);
+  const auto g = d.run({cnl(3e6, ShearPath::cycles(0.01, 1, 1e-4, true))});
+  EXPECT_NEAR(min_tau(g, first_reverse_row(g), g.rows.size()), -3.0 * std::tan(38.0 * kDeg), 1e-6);
+}
+
+// Continuously-Yielding: the return stroke is bounded by sigma_n tan(2 phi - phi_m) (i = phi_m -
+// phi), far below the forward strength; the base law's reverse peak is close to the end of
+// forward shearing instead.
+TEST(EffectReverseShearDegradation, ContinuouslyYieldingReverseBoundUsesPhiMinusRoughness) {
+  const auto params = cy_report({{"dilation", "reversible"}});
+  auto m = model("continuously_yielding", params, {effect("reverse_shear_degradation")});
+  ElementDriver d(*m);
+  const auto f = d.run({cnl(3e6, ShearPath::cycles(0.01, 1, 1e-4, true))});
+  const std::size_t rev = first_reverse_row(f);
+  const double end_forward = f.rows[rev - 1].shear_stress_MPa;
+  const auto s = law_state<ContinuouslyYielding::State>(d.state());
+  const ContinuouslyYielding::Params p =
+      bind_params<ContinuouslyYielding::Params>(params, "continuously_yielding", "test");
+  const double phim = ContinuouslyYielding::phi_m(p, s.plastic_slip);
+  const double bound = 3.0 * std::tan(2.0 * p.friction - phim);
+  EXPECT_LT(-f.rows.back().shear_stress_MPa, bound * (1.0 + 1e-9));  // never above the bound
+  EXPECT_GT(-f.rows.back().shear_stress_MPa, 0.97 * bound);          // and approaching it
+  EXPECT_LT(-min_tau(f, rev, f.rows.size()), 0.85 * end_forward);
+  auto plain = model("continuously_yielding", params);
+  ElementDriver dp(*plain);
+  const auto g = dp.run({cnl(3e6, ShearPath::cycles(0.01, 1, 1e-4, true))});
+  EXPECT_GT(-min_tau(g, first_reverse_row(g), g.rows.size()), 0.9 * end_forward);
+}
+
+// Barton-Bandis: the reverse strength is sigma_n tan(phi_r - JRC_mob log10(JCS/sigma_n)); at the
+// end of forward shearing (10 mm, about 7.6 delta_p) the mobilised roughness is positive, so the
+// reverse stroke sits below the residual-friction line 3 tan(28.4 deg), while the plain law's
+// reverse peak equals the end-of-forward strength.
+TEST(EffectReverseShearDegradation, BartonBandisReverseStrengthBelowResidualFriction) {
+  const auto params = bb_report({{"dilation", "reversible"}});
+  auto m = model("barton_bandis", params, {effect("reverse_shear_degradation")});
+  ElementDriver d(*m);
+  const auto f = d.run({cnl(3e6, ShearPath::cycles(0.01, 1, 1e-4, true))});
+  const std::size_t rev = first_reverse_row(f);
+  EXPECT_NEAR(max_tau(f, 0, rev), 2.5948, 2e-3);  // forward peak unchanged
+  const double reverse = -min_tau(f, rev, f.rows.size());
+  EXPECT_LT(reverse, 3.0 * std::tan(28.4 * kDeg));
+  EXPECT_GT(reverse, 0.5);
+}
+
+TEST(EffectReverseShearDegradation, DescribedInTheRegistry) {
+  const auto* e = EffectRegistry::instance().find("reverse_shear_degradation");
+  ASSERT_NE(e, nullptr);
+  EXPECT_NE(e->reference.find("Patton"), std::string::npos);
+  ASSERT_EQ(e->params.size(), 2u);
+  EXPECT_EQ(e->params[1].name, "weight");
+}
