@@ -232,17 +232,14 @@ void ShearBox::evaluate(double s) {
     v = vn;
   }
   lift_ = v;
-  long count = 0;
   const double x_shift = surf_.top_x0 + s;
   for (std::size_t i = 0; i < n; ++i) {
     const double d = h_[i] - v;
     if (d <= 0.0) continue;
-    ++count;
     const double x = x_shift + surf_.grid * static_cast<double>(i);
     const double slope = 0.5 * (bottom_slope(x) + top_slope(i));
     contacts_.push_back({i, std::min(kc * d, p_.wall_strength) * surf_.grid, std::atan(slope), slope, d});
   }
-  (void)count;
 }
 
 double ShearBox::horizontal(double mu_signed, double* d_dmu) const {
@@ -502,7 +499,6 @@ void ShearBox::run(const std::vector<ElementStage>& stages, MeasurementFile& out
     crush();
     const double origin = s_;
     const double lift0 = lift_;
-    const double k = chain_stiffness();
     tau_ = 0.0;
     const double t_stage0 = t_global;
     double t_last_row = -kInfinity;
@@ -542,7 +538,6 @@ void ShearBox::run(const std::vector<ElementStage>& stages, MeasurementFile& out
     }
     if (t_last_row < t_end) record(t_end, true);
     t_global = t_stage0 + t_end;
-    (void)k;
     ++number;
   }
 }
