@@ -2,7 +2,7 @@
 // unevenness (second-order asperities, short and steep; Patton 1966; Barton 1973). The
 // second-order ones control the peak and are sheared off within a fraction of a millimetre of
 // it; the first-order ones survive many cycles and wear slowly, with the energy dissipated in
-// sliding (plastic work; Plesha 1987, Qiu & Plesha 1991). The effect adds to the angle of the
+// sliding (plastic work; Plesha 1987; Qiu et al. 1993). The effect adds to the angle of the
 // base law's strength
 //   delta = i2 exp(-S/s2) - i1 (1 - exp(-W/W1)),      tau = sigma_n tan(alpha + delta),
 // alpha = atan(strength/sigma_n) the base law's mobilised angle (after earlier effects), S the
@@ -78,4 +78,5 @@ struct TwoOrderRoughness {
 ROCKDEM_REGISTER_EFFECT(rockdem::TwoOrderRoughness,
                         "second-order asperities sheared off near the first peak, first-order roughness wearing "
                         "slowly with plastic work over many cycles",
-                        "Patton (1966); Barton (1973) Eng. Geol. 7:287-332; Plesha (1987); Qiu & Plesha (1991)")
+                        "Patton (1966); Barton (1973) Eng. Geol. 7:287-332; Plesha (1987) IJNAMG 11(4); Qiu, Plesha, Huang & Haimson "
+                        "(1993) IJRMMS 30(3)")
