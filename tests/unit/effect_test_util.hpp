@@ -3,6 +3,7 @@
 // run for every law over a path with loading, cycles, separation and re-contact.
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <cstring>
 #include <string>
 #include <utility>
@@ -63,9 +64,21 @@ inline void expect_disabled_is_bit_identical(const std::vector<EffectSpec>& effe
   }
 }
 
-// One effect by name with "key = value" parameters.
+// One effect by name with "key = value" parameters; whole numbers are passed as TOML integers.
 inline EffectSpec effect(const std::string& name, std::initializer_list<std::pair<std::string, std::string>> kv = {}) {
-  return EffectSpec{name, values(kv), "test"};
+  RawValues v = values(kv);
+  for (auto& [k, r] : v) {
+    const auto* s = std::get_if<std::string>(&r.value);
+    if (s && !s->empty() && s->find_first_not_of("0123456789") == std::string::npos) r.value = std::int64_t{std::stoll(*s)};
+  }
+  return EffectSpec{name, v, "test"};
+}
+
+// Index of the first row of the first return stroke (the row after the largest offset).
+inline std::size_t first_reverse_row(const MeasurementFile& f) {
+  std::size_t i = 0;
+  while (i + 1 < f.rows.size() && f.rows[i + 1].shear_disp_mm >= f.rows[i].shear_disp_mm) ++i;
+  return i + 1;
 }
 
 }  // namespace rockdem::testutil

@@ -10,11 +10,6 @@ using namespace rockdem;
 using namespace rockdem::testutil;
 
 namespace {
-std::size_t first_reverse_row(const MeasurementFile& f) {
-  std::size_t i = 0;
-  while (i + 1 < f.rows.size() && f.rows[i + 1].shear_disp_mm >= f.rows[i].shear_disp_mm) ++i;
-  return i + 1;
-}
 double dilation(const MeasurementFile& f, std::size_t i) { return f.extra[i][0]; }  // dilation_mm
 }  // namespace
 

@@ -12,12 +12,6 @@ using namespace rockdem::testutil;
 
 namespace {
 constexpr double kDeg = std::numbers::pi / 180.0;
-// Index of the first row of the return stroke (the row after the largest offset).
-std::size_t first_reverse_row(const MeasurementFile& f) {
-  std::size_t i = 0;
-  while (i + 1 < f.rows.size() && f.rows[i + 1].shear_disp_mm >= f.rows[i].shear_disp_mm) ++i;
-  return i + 1;
-}
 }  // namespace
 
 TEST(EffectReverseShearDegradation, DisabledLeavesEveryLawBitForBitIdentical) {
