@@ -61,9 +61,20 @@ class Recorder {
     for (std::size_t i = 0; i < c_.histories.size(); ++i) h_.set(static_cast<int>(i) + 1, value(c_.histories[i]) * c_.histories[i].scale);
     if (c_.direct_shear.enabled) {
       const auto& d = c_.direct_shear;
-      const double tau = -e_.contact_force_on(d.loader).x() / d.joint_length;
+      double fx = e_.contact_force_on(d.loader).x();
+      for (int l : d.other_loaders) fx += e_.contact_force_on(l).x();
+      const double tau = -fx / d.joint_length;
       const double us = m.blocks[d.loader].xc.x() - loader_x0_;
       const double un = normal_disp() - normal0_;
+      // A joint that dilates beyond the detection distance loses contacts (points meeting on the
+      // dilated joint are not found): the record is then no longer the law's. Say so once.
+      if (test_stage_ && !warned_reach_ && un > c_.settings.detection.distance) {
+        warned_reach_ = true;
+        std::cerr << "rockdem: warning: the joint has dilated " << un * 1e3 << " mm in test stage " << test_stage_
+                  << ", more than the contact detection distance (" << c_.settings.detection.distance * 1e3
+                  << " mm): contacts on the dilated joint are being lost and the record departs from the joint law "
+                     "(raise [model] detection_tolerance, or [dem] detection_tolerance up to 20 mm)\n";
+      }
       h_.set(ds_[0], tau);
       h_.set(ds_[1], test_stage_ ? us : 0.0);
       h_.set(ds_[2], test_stage_ ? un : 0.0);
@@ -121,7 +132,8 @@ class Recorder {
   int stage_id_ = 0;
   int ds_[3] = {-1, -1, -1};
   int stage_ = 0;
-  int test_stage_ = 0;  // 1-based test stage of the current shear stage, 0 outside them
+  int test_stage_ = 0;
+  bool warned_reach_ = false;  // 1-based test stage of the current shear stage, 0 outside them
   double loader_x0_ = 0.0, normal0_ = 0.0, t0_ = NAN;
   MeasurementFile lab_;
 };

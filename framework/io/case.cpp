@@ -608,7 +608,7 @@ Case build(const toml::table& root, const Reader& r) {
   // [direct_shear]
   if (const auto* t = root["direct_shear"].as_table()) {
     const std::string path = "direct_shear";
-    r.check_keys(*t, path, {"specimen", "joint_length", "loader", "top", "bottom", "normal_stress", "shear_stage",
+    r.check_keys(*t, path, {"specimen", "joint_length", "loader", "other_loaders", "top", "bottom", "normal_stress", "shear_stage",
                             "normal_stresses", "shear_stages"});
     auto& d = c.direct_shear;
     d.enabled = true;
@@ -643,6 +643,13 @@ Case build(const toml::table& root, const Reader& r) {
     d.top_face = select_face(m, d.top, {0, -1}).points;
     d.bottom_face = select_face(m, d.bottom, {0, 1}).points;
     if (!m.blocks[d.loader].rigid) throw InputError(r.at(*t->get("loader"), path + ".loader") + ": the loading block must be rigid");
+    if (const auto* ol = r.array(*t, "other_loaders")) {
+      for (const auto& e : *ol) {
+        const int b = c.block_index(r.str(e, path + ".other_loaders"), r.at(e, path + ".other_loaders"));
+        if (!m.blocks[b].rigid) throw InputError(r.at(e, path + ".other_loaders") + ": a loading block must be rigid");
+        d.other_loaders.push_back(b);
+      }
+    }
   }
 
   // [output]

@@ -59,6 +59,9 @@ struct DirectShearSpec {
   std::string specimen;
   double joint_length = 0.2032;
   int loader = -1, top = -1, bottom = -1;
+  // Further loading blocks moving with `loader` (e.g. one on each side of the top block, each only
+  // pushing): the shear force is the sum over all of them.
+  std::vector<int> other_loaders;
   std::vector<int> top_face, bottom_face;
   std::vector<std::string> shear_stages;  // case stages whose samples are written, in test order
   std::vector<double> normal_stresses;    // applied on the top face in each, for the file [Pa]

@@ -2,9 +2,11 @@
 // The DEM model of a laboratory direct-shear test: the report's Figure 4-7 specimen (Hsiung et
 // al., CNWRA, section 4) built from a laboratory-test case file (lab_test.hpp). Two deformable
 // elastic blocks of the test's rock (Table 4-1): the bottom one fixed, the top one (as long as
-// the joint) loaded by the normal stress on its top face and pushed through a frictionless,
-// non-separating interface by a rigid loading block that follows the stage's shear path. The joint
-// between them has the test's law, effects and parameters, per stage where the test has them.
+// the joint) loaded by the normal stress on its top face and pushed through frictionless
+// interfaces by two rigid loading blocks, one against each end, that follow the stage's shear path
+// together (the report's single block pulled the top block back through a non-separating
+// interface; pushing from both sides keeps the interface free of tension, see the .cpp). The joint
+// between the halves has the test's law, effects and parameters, per stage where the test has them.
 // Per test stage k the case has two stages: `load_k` (normal stress applied, loading block held,
 // run to equilibrium) and `shear_k` (the path); the record has one stage per test stage.
 #include <string>

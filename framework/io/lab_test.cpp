@@ -55,6 +55,7 @@ struct DemTable {
              "contacts are found this far beyond the rounding; must exceed the joint's dilation, or points that "
              "come into contact on a dilated joint are missed")
             .positive()
+            .max(0.02)
             .def(5e-3),
         real("shear_velocity", &P::shear_velocity, Dimension::velocity,
              "cycles paths run at this speed in the DEM run (0: the stage's own velocity, i.e. the laboratory rate)")

@@ -56,7 +56,7 @@ expect_error 2 "badkey.toml" "zones" "zone_size" -- run "$tmp/badkey.toml" --out
 sed 's/^dt_safety = .*/dt_safety = 1.5/' "$lab" >"$tmp/safety.toml"
 expect_error 2 "safety.toml" "dt_safety" -- run "$tmp/safety.toml" --out "$tmp/o3"
 sed 's/^detection_tolerance = .*/detection_tolerance = "60 mm"/' "$lab" >"$tmp/tol.toml"
-expect_error 2 "tol.toml" "detection_tolerance" "below 45 mm" -- run "$tmp/tol.toml" --out "$tmp/o4"
+expect_error 2 "tol.toml" "detection_tolerance" "out of range" -- run "$tmp/tol.toml" --out "$tmp/o4"
 
 # Constant normal stiffness: element only.
 sed '0,/^normal_stress = "3 MPa"/s//normal_stress = "3 MPa"\nnormal_control = "stiffness"\nnormal_stiffness = "1 GPa\/m"/' "$lab" >"$tmp/cns.toml"
