@@ -252,14 +252,7 @@ ElementStage read_stage(const toml::table& t, const std::string& file, const std
 }
 
 LabTest read_lab_test(const std::string& file) {
-  if (!fs::exists(file)) throw InputError(file + ": case file not found");
-  toml::table root;
-  try {
-    root = toml::parse_file(file);
-  } catch (const toml::parse_error& e) {
-    throw InputError(file + ":" + std::to_string(e.source().begin.line) + ":" +
-                     std::to_string(e.source().begin.column) + ": TOML syntax error: " + std::string(e.description()));
-  }
+  const toml::table root = parse_toml_file(file, "case file");
   LabTest c;
   c.file = file;
   check_keys(root, file, "", {"title", "specimen", "element", "dem", "joint", "stage"});

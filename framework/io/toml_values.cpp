@@ -2,7 +2,19 @@
 
 #include "framework/core/error.hpp"
 
+#include <filesystem>
+
 namespace rockdem {
+
+toml::table parse_toml_file(const std::string& path, const std::string& what) {
+  if (!std::filesystem::exists(path)) throw InputError(path + ": " + what + " not found");
+  try {
+    return toml::parse_file(path);
+  } catch (const toml::parse_error& e) {
+    throw InputError(path + ":" + std::to_string(e.source().begin.line) + ":" + std::to_string(e.source().begin.column) +
+                     ": TOML syntax error: " + std::string(e.description()));
+  }
+}
 
 std::string toml_where(const toml::node& node, const std::string& file) {
   return file + ":" + std::to_string(node.source().begin.line);

@@ -12,6 +12,10 @@
 
 namespace rockdem {
 
+// Parses a TOML file; a missing file or a syntax error is an InputError naming the file, line and
+// column. `what` names the kind of file in the not-found message (e.g. "case file").
+toml::table parse_toml_file(const std::string& path, const std::string& what);
+
 // "file:line" of a node (line 0 when toml++ has no source position, e.g. a built table).
 std::string toml_where(const toml::node& node, const std::string& file);
 

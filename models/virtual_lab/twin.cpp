@@ -109,14 +109,7 @@ std::string shortest(double v) {
 }  // namespace
 
 TwinCase read_twin_case(const std::string& file) {
-  if (!fs::exists(file)) throw InputError(file + ": virtual-lab case file not found");
-  toml::table root;
-  try {
-    root = toml::parse_file(file);
-  } catch (const toml::parse_error& e) {
-    throw InputError(file + ":" + std::to_string(e.source().begin.line) + ":" +
-                     std::to_string(e.source().begin.column) + ": TOML syntax error: " + std::string(e.description()));
-  }
+  const toml::table root = parse_toml_file(file, "virtual-lab case file");
   TwinCase c;
   c.file = file;
   for (const auto& [k, node] : root) {
