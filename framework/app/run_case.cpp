@@ -66,14 +66,16 @@ class Recorder {
       const double tau = -fx / d.joint_length;
       const double us = m.blocks[d.loader].xc.x() - loader_x0_;
       const double un = normal_disp() - normal0_;
-      // A joint that dilates beyond the detection distance loses contacts (points meeting on the
-      // dilated joint are not found): the record is then no longer the law's. Say so once.
-      if (test_stage_ && !warned_reach_ && un > c_.settings.detection.distance) {
-        warned_reach_ = true;
-        std::cerr << "rockdem: warning: the joint has dilated " << un * 1e3 << " mm in test stage " << test_stage_
-                  << ", more than the contact detection distance (" << c_.settings.detection.distance * 1e3
-                  << " mm): contacts on the dilated joint are being lost and the record departs from the joint law "
-                     "(raise [model] detection_tolerance, or [dem] detection_tolerance up to 20 mm)\n";
+      // A joint that dilates beyond the detection distance loses its contacts (points meeting on
+      // the dilated joint are not found) and the specimen collapses: stop, rather than record
+      // something that is no longer the joint law's.
+      if (test_stage_ && un > c_.settings.detection.distance) {
+        std::ostringstream os;
+        os << "the joint has dilated " << un * 1e3 << " mm in test stage " << test_stage_ << " (time " << m.time
+           << " s), more than the contact detection distance (" << c_.settings.detection.distance * 1e3
+           << " mm) within which the specimen keeps its joint contacts; raise [model] detection_tolerance (for a "
+              "laboratory-test case [dem] detection_tolerance, up to 20 mm), or run this law with `rockdem element`";
+        throw InstabilityError(os.str());
       }
       h_.set(ds_[0], tau);
       h_.set(ds_[1], test_stage_ ? us : 0.0);
@@ -132,11 +134,21 @@ class Recorder {
   int stage_id_ = 0;
   int ds_[3] = {-1, -1, -1};
   int stage_ = 0;
-  int test_stage_ = 0;
-  bool warned_reach_ = false;  // 1-based test stage of the current shear stage, 0 outside them
+  int test_stage_ = 0;  // 1-based test stage of the current shear stage, 0 outside them
   double loader_x0_ = 0.0, normal0_ = 0.0, t0_ = NAN;
   MeasurementFile lab_;
 };
+
+void write_lab_record(const Case& c, MeasurementFile& f, const fs::path& path, const std::string& status) {
+  f.metadata = {{"specimen", c.direct_shear.specimen},
+                {"joint_length_m", std::to_string(c.direct_shear.joint_length)},
+                {"source", "rockdem"},
+                {"model", "dem"},
+                {"case", c.file}};
+  for (const auto& kv : c.direct_shear.metadata) f.metadata.push_back(kv);
+  if (!status.empty()) f.metadata.emplace_back("status", status);
+  write_measurement_csv(path.string(), f);
+}
 
 }  // namespace
 
@@ -250,22 +262,22 @@ RunResult run_case(Case& c, const fs::path& out, bool quiet, const std::string& 
     write_checkpoint(c.model, path);
     vtk.write(c.model);
     rec.close();
+    // The joint record up to here is kept, marked incomplete.
+    std::string record;
+    if (c.direct_shear.enabled && !rec.lab().rows.empty()) {
+      const fs::path partial = out / (c.direct_shear.specimen + ".incomplete.csv");
+      write_lab_record(c, rec.lab(), partial, "incomplete: the run stopped (see the message of rockdem run)");
+      record = ", the joint record up to then in " + partial.string();
+    }
     throw InstabilityError(std::string(e.what()) + "\n  last good state (step " + std::to_string(c.model.step) +
-                           ") written to " + path + " and " + (out / "vtk").string());
+                           ") written to " + path + " and " + (out / "vtk").string() + record);
   }
   write_checkpoint(c.model, (out / "final_state.h5").string());
   rec.close();
   fs::path csv;
   if (c.direct_shear.enabled && !rec.lab().rows.empty()) {
-    auto& f = rec.lab();
-    f.metadata = {{"specimen", c.direct_shear.specimen},
-                  {"joint_length_m", std::to_string(c.direct_shear.joint_length)},
-                  {"source", "rockdem"},
-                  {"model", "dem"},
-                  {"case", c.file}};
-    for (const auto& kv : c.direct_shear.metadata) f.metadata.push_back(kv);
     csv = out / (c.direct_shear.specimen + ".csv");
-    write_measurement_csv(csv.string(), f);
+    write_lab_record(c, rec.lab(), csv, "");
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   if (!quiet) {

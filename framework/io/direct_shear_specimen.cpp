@@ -74,6 +74,10 @@ toml::table direct_shear_case_table(const LabTest& test, const DirectShearOption
   // 20 mm wide against the top block's left face.
   const double L = test.joint_length, H = 0.102, offset = 0.051;
   const double bottom_length = std::max(0.305, L + 2.0 * offset);
+  // The loading blocks are centred on the top block's mid-height (no moment at the start), their
+  // lower edges above the joint by more than it can dilate (the detection distance): a dilating
+  // top block rising past a loader's lower edge would let that loader run in under it.
+  const double clearance = std::max(0.06 * H, dem.detection_tolerance + dem.rounding);
   toml::table root;
   root.insert("title", (test.title.empty() ? test.specimen : test.title) + " (DEM specimen, Figure 4-7 model)");
   root.insert("model", toml::table{{"rounding", q(dem.rounding, "m")}, {"detection_tolerance", q(dem.detection_tolerance, "m")}});
@@ -108,9 +112,9 @@ toml::table direct_shear_case_table(const LabTest& test, const DirectShearOption
                             toml::table{{"name", "top"}, {"type", "deformable"}, {"material", "rock"},
                                         {"rectangle", rectangle(offset, 0.0, L, H)}, {"zone_size", q(dem.zone_size, "m")}},
                             toml::table{{"name", "loader"}, {"group", "loaders"}, {"type", "rigid"}, {"density", "2420 kg/m3"},
-                                        {"rectangle", rectangle(offset - 0.02, 0.06 * H, 0.02, 0.88 * H)}},
+                                        {"rectangle", rectangle(offset - 0.02, clearance, 0.02, H - 2.0 * clearance)}},
                             toml::table{{"name", "loader_back"}, {"group", "loaders"}, {"type", "rigid"}, {"density", "2420 kg/m3"},
-                                        {"rectangle", rectangle(offset + L, 0.06 * H, 0.02, 0.88 * H)}},
+                                        {"rectangle", rectangle(offset + L, clearance, 0.02, H - 2.0 * clearance)}},
                         });
   toml::array boundary{
       toml::table{{"type", "fixed"}, {"block", "bottom"}, {"face", "bottom"}, {"components", toml::array{"y"}}},
