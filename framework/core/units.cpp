@@ -41,6 +41,8 @@ constexpr std::array kUnits{
     UnitDef{"J/m^2", Dimension::energy_per_area, 1.0},
     UnitDef{"N", Dimension::force, 1.0},           UnitDef{"kN", Dimension::force, 1e3},
     UnitDef{"MN", Dimension::force, 1e6},
+    UnitDef{"kg/m2", Dimension::mass_per_area, 1.0}, UnitDef{"kg/m^2", Dimension::mass_per_area, 1.0},
+    UnitDef{"t/m2", Dimension::mass_per_area, 1e3}, UnitDef{"t/m^2", Dimension::mass_per_area, 1e3},
 };
 
 std::string_view trim(std::string_view s) {
@@ -66,6 +68,7 @@ std::string_view dimension_name(Dimension d) {
     case Dimension::angular_velocity: return "angular velocity";
     case Dimension::energy_per_area: return "energy per area";
     case Dimension::force: return "force";
+    case Dimension::mass_per_area: return "mass per area";
   }
   return "?";
 }
@@ -85,6 +88,7 @@ std::string_view si_unit(Dimension d) {
     case Dimension::angular_velocity: return "rad/s";
     case Dimension::energy_per_area: return "J/m^2";
     case Dimension::force: return "N";
+    case Dimension::mass_per_area: return "kg/m^2";
   }
   return "";
 }
@@ -104,6 +108,7 @@ std::string_view units_for(Dimension d) {
     case Dimension::angular_velocity: return "rad/s, deg/s";
     case Dimension::energy_per_area: return "J/m2";
     case Dimension::force: return "N, kN, MN";
+    case Dimension::mass_per_area: return "kg/m2, kg/m^2, t/m2";
   }
   return "";
 }

@@ -21,6 +21,7 @@ enum class Dimension {
   angular_velocity,// rad/s (spin)
   energy_per_area, // J/m^2
   force,           // N
+  mass_per_area,   // kg/m^2 (block mass per unit joint area)
 };
 
 std::string_view dimension_name(Dimension d);

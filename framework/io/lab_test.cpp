@@ -34,12 +34,29 @@ struct SpecimenSettings {
 struct ElementSettings {
   double step;
   int output_every;
+  double frame_stiffness, frame_mass;
   static std::vector<Param<ElementSettings>> spec() {
     using P = ElementSettings;
     return {
         real("step", &P::step, Dimension::length, "largest shear displacement increment").positive().def(1e-5),
         integer("output_every", &P::output_every, 1, "write every n-th increment (each stage's last always)").min(1),
+        real("frame_stiffness", &P::frame_stiffness, Dimension::stiffness,
+             "compliant loading frame: spring between the path's load point and the top block, per unit joint "
+             "area; 0 = rigid (the joint follows the path exactly)")
+            .non_negative()
+            .def(0.0),
+        real("frame_mass", &P::frame_mass, Dimension::mass_per_area,
+             "top-block mass per unit joint area, integrated between the frame spring and the joint (needed "
+             "with frame_stiffness > 0)")
+            .non_negative()
+            .def(0.0),
     };
+  }
+  void validate() const {
+    if (frame_stiffness > 0.0 && !(frame_mass > 0.0)) {
+      throw InputError("[element]: frame_stiffness > 0 needs frame_mass > 0 (the top block's mass per unit joint area, "
+                       "e.g. \"250 kg/m2\" for a 0.1 m tuff block)");
+    }
   }
 };
 
@@ -284,6 +301,8 @@ LabTest read_lab_test(const std::string& file) {
                      : bind_params<ElementSettings>({}, "[element]", file);
     c.step = s.step;
     c.output_every = s.output_every;
+    c.frame_stiffness = s.frame_stiffness;
+    c.frame_mass = s.frame_mass;
   }
   // [dem]
   {
@@ -386,6 +405,8 @@ ElementRun run_element_test(const LabTest& c) {
   opt.max_step = c.step;
   opt.length = c.joint_length;
   opt.output_every = c.output_every;
+  opt.frame_stiffness = c.frame_stiffness;
+  opt.frame_mass = c.frame_mass;
   ElementDriver driver(*c.model, opt);
   ElementRun run;
   run.record.metadata = {{"specimen", c.specimen},

@@ -5,7 +5,7 @@
 // specimen (`rockdem run`: framework/io/direct_shear_specimen.hpp). Keys (docs/case-files.md):
 //   title = "..."
 //   [specimen]      name, joint_length; density, bulk, shear (rock matrix, needed by the DEM run)
-//   [element]       step, output_every
+//   [element]       step, output_every, frame_stiffness, frame_mass
 //   [dem]           zone_size, rounding, shear_velocity, mass_scaling_dt, dt_safety, history_interval
 //   [joint]         law = "<name>", effects = [...]; [joint.params] the law's parameters
 //   [[stage]]       normal_stress, normal_control, normal_stiffness, path = cycles | sinusoid | file
@@ -48,6 +48,8 @@ struct LabTest {
   double joint_length = 1.0;  // [m]
   double step = 1e-5;         // element driver: largest shear increment [m]
   int output_every = 1;
+  double frame_stiffness = 0.0;  // element driver: compliant loading frame [Pa/m] (0: rigid)
+  double frame_mass = 0.0;       // element driver: top-block mass per unit joint area [kg/m^2]
   std::optional<SpecimenRock> rock;
   DemSettings dem;
   // The joint as written, for models built elsewhere (the DEM specimen copies these tables).

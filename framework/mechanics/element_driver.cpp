@@ -121,6 +121,10 @@ void for_each_increment(const ShearPath& path, double u0, double max_step, Fn&& 
 ElementDriver::ElementDriver(const JointModel& model, ElementOptions options) : model_(model), opt_(options) {
   if (!(opt_.max_step > 0.0)) throw InputError("element driver: the shear step must be positive");
   if (opt_.output_every < 1) throw InputError("element driver: output_every must be at least 1");
+  if (!(opt_.frame_stiffness >= 0.0) || (frame() && !(opt_.frame_mass > 0.0))) {
+    throw InputError("element driver: a loading frame needs frame_stiffness > 0 and frame_mass > 0 (the top block's "
+                     "mass per unit joint area)");
+  }
   reset();
 }
 
@@ -128,13 +132,14 @@ void ElementDriver::reset() {
   model_.init(state_);
   r_ = JointResponse{};
   time_ = dissipated_ = u_n_ = u_n_stage_ = cns_sigma0_ = cns_u_n0_ = last_du_n_ = last_slope_ = 0.0;
+  u_load_ = v_block_ = 0.0;
   steps_ = unconverged_ = 0;
   max_iter_used_ = 0;
 }
 
 long ElementDriver::count_increments(const ShearPath& path) const {
   long n = 0;
-  for_each_increment(path, r_.u_s, opt_.max_step, [&](double, double, double) { ++n; });
+  for_each_increment(path, load_point(), opt_.max_step, [&](double, double, double) { ++n; });
   return n;
 }
 
@@ -223,12 +228,93 @@ const JointResponse& ElementDriver::begin_stage(const ElementStage& stage) {
   u_n_stage_ = u_n_;
   cns_sigma0_ = r_.sigma_n;
   cns_u_n0_ = u_n_;
+  if (frame()) {  // the frame holds the block where it is: its force balances the shear stress
+    u_load_ = r_.u_s + r_.tau / opt_.frame_stiffness;
+    v_block_ = 0.0;
+  }
   return r_;
 }
 
 const JointResponse& ElementDriver::step(const ElementStage& stage, double du_s, double dt) {
-  solve_normal(stage, du_s, dt);
+  if (frame()) {
+    frame_step(stage, du_s, dt);
+  } else {
+    solve_normal(stage, du_s, dt);
+  }
   return r_;
+}
+
+// The block between the frame spring and the joint over one path increment: the load point moves
+// by du_load in dt, in sub-steps h no longer than a tenth of the frame period over 2 pi (the
+// block-on-frame oscillation that carries a slip event is resolved). Each sub-step solves, by
+// backward Euler, for the block's displacement x:
+//   R(x) = m (x/h - v)/h + tau(x) - k_f (u_load - u - x) = 0,
+// tau(x) being the joint's response to the shear increment x (with the stage's normal condition).
+// R increases with x (inertia and frame grow with it, and a joint's stress does not fall with
+// more shear within one step unless it is softening, slowly), so a bracketed secant finds the
+// root. dt = 0 (a jump of the load point) is solved statically (m = 0).
+void ElementDriver::frame_step(const ElementStage& stage, double du_load, double dt) {
+  const double kf = opt_.frame_stiffness, m = opt_.frame_mass;
+  const double omega = std::sqrt(kf / m);
+  const long n_sub = dt > 0.0 ? std::max(1L, static_cast<long>(std::ceil(dt * omega / 0.1))) : 1L;
+  const double h = dt / static_cast<double>(n_sub);
+  struct Snapshot {
+    JointStateBlock state;
+    JointResponse r;
+    double time, dissipated, u_n, last_du_n, last_slope;
+    long steps, unconverged;
+  };
+  for (long sub = 0; sub < n_sub; ++sub) {
+    u_load_ += du_load / static_cast<double>(n_sub);
+    const Snapshot before{state_, r_, time_, dissipated_, u_n_, last_du_n_, last_slope_, steps_, unconverged_};
+    auto restore = [&] {
+      state_ = before.state;
+      r_ = before.r;
+      time_ = before.time;
+      dissipated_ = before.dissipated;
+      u_n_ = before.u_n;
+      last_du_n_ = before.last_du_n;
+      last_slope_ = before.last_slope;
+      steps_ = before.steps;
+      unconverged_ = before.unconverged;
+    };
+    const double u0 = before.r.u_s, v0 = v_block_;
+    auto residual = [&](double x) {
+      restore();
+      solve_normal(stage, x, h);
+      const double inertia = h > 0.0 ? m * (x / h - v0) / h : 0.0;
+      return inertia + r_.tau - kf * (u_load_ - u0 - x);
+    };
+    const double scale = std::max(std::abs(before.r.tau), std::abs(before.r.sigma_n)) + 1e3;
+    const double tol = 1e-8 * scale;  // above the inner normal solve's noise (1e-10 of sigma_n)
+    // Stiffness of R for the first secant step: inertia + frame + the joint's elastic stiffness.
+    const double k_est = (h > 0.0 ? m / (h * h) : 0.0) + kf + std::max(before.r.ks, model_.initial_ks());
+    double x0 = h > 0.0 ? v0 * h : 0.0;
+    double r0 = residual(x0);
+    double lo = -kInf, hi = kInf;  // R(lo) < 0 < R(hi)
+    auto note = [&](double x, double rx) {
+      if (rx < 0.0) lo = std::max(lo, x);
+      if (rx > 0.0) hi = std::min(hi, x);
+    };
+    note(x0, r0);
+    double x1 = x0 - r0 / k_est;
+    double r1 = std::abs(r0) <= tol ? r0 : residual(x1);
+    if (std::abs(r0) <= tol) x1 = x0;
+    note(x1, r1);
+    for (int it = 0; it < 60 && std::abs(r1) > tol; ++it) {
+      double x2 = r1 != r0 ? x1 - r1 * (x1 - x0) / (r1 - r0) : x1 - r1 / k_est;
+      if (std::isfinite(lo) && std::isfinite(hi) && !(x2 > lo && x2 < hi)) x2 = 0.5 * (lo + hi);
+      if (!std::isfinite(x2)) x2 = x1 - r1 / k_est;
+      x0 = x1;
+      r0 = r1;
+      x1 = x2;
+      r1 = residual(x1);
+      note(x1, r1);
+    }
+    if (std::abs(r1) > tol) ++unconverged_;
+    // The state is that of the last residual evaluation, i.e. at x1.
+    v_block_ = h > 0.0 ? x1 / h : 0.0;
+  }
 }
 
 void ElementDriver::append_row(MeasurementFile& out, int stage) const {
@@ -253,7 +339,7 @@ void ElementDriver::run(const std::vector<ElementStage>& stages, MeasurementFile
     const long n = count_increments(st.path);
     const double t0 = time_;
     long i = 0;
-    for_each_increment(st.path, r_.u_s, opt_.max_step, [&](double du, double dt, double t) {
+    for_each_increment(st.path, load_point(), opt_.max_step, [&](double du, double dt, double t) {
       step(st, du, dt);
       time_ = t0 + t;  // the path's time, free of the rounding of summed increments
       ++i;

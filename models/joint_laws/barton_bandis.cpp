@@ -217,6 +217,8 @@ void BartonBandis::update(const Params& p, State& s, const JointKinematics& k, J
   ctx.dilation_rate = sign * std::tan(0.5 * std::max(0.0, m_tr));  // eq. 3-7
   ctx.toward_origin = u_s_before * k.du_s < 0.0;
   ctx.dt = k.dt;
+  ctx.tau = s.tau;
+  ctx.shear_stiffness = p.ks;
   const RoughnessView view{&p, &d};
   ctx.roughness_at = [](const void* law, double slip, double sigma_n) {
     const auto& v = *static_cast<const RoughnessView*>(law);

@@ -157,6 +157,10 @@ void ContinuouslyYielding::update(const Params& p, State& s, const JointKinemati
   ctx.dilation_rate = sign * std::tan(psi);  // eq. 3-16
   ctx.toward_origin = u_s_before * k.du_s < 0.0;
   ctx.dt = k.dt;
+  ctx.tau = s.tau;
+  const double sig0 = s.sigma_n > 0.0 ? s.sigma_n : std::max(0.0, sigma_tr);
+  const double ks0 = shear_stiffness(p, sig0);
+  ctx.shear_stiffness = ks0;
   ctx.roughness_at = [](const void* law, double slip, double) {
     const auto& q = *static_cast<const Params*>(law);
     return phi_m(q, slip) - q.friction;
@@ -173,11 +177,10 @@ void ContinuouslyYielding::update(const Params& p, State& s, const JointKinemati
   // is a continuous function of du_n (the element driver solves for it).
   int n_sub = 1;
   {
-    const double sig0 = s.sigma_n > 0.0 ? s.sigma_n : std::max(0.0, sigma_tr);
     const double b0 = effects(sig0 * std::tan(phim));
     const double r0 = reversal ? -0.75 : s.r;  // a reversal starts near -tau_o: (1 - r) ~ 2
     const double limit = 0.5 * b0 * (1.0 - r0);
-    const double need = limit > 0.0 ? std::ceil(shear_stiffness(p, sig0) * std::abs(k.du_s) / limit) : 1.0;
+    const double need = limit > 0.0 ? std::ceil(ks0 * std::abs(k.du_s) / limit) : 1.0;
     n_sub = static_cast<int>(std::clamp(need, 1.0, 32.0));
   }
   double tau = tau_old, up = s.plastic_slip, rr = s.r, ks = 0.0, ddil = 0.0;

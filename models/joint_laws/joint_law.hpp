@@ -62,6 +62,8 @@ struct ShearContext {
   double dilation_rate = 0.0;    // d(dilation)/d|du_s^p| with its sign; effects may change it
   bool toward_origin = false;    // the increment moves back toward the mated position
   double dt = 0.0;               // time increment [s] (0: pseudo-static)
+  double tau = 0.0;              // shear stress before the increment [Pa]
+  double shear_stiffness = 0.0;  // elastic shear stiffness of the increment [Pa/m]
   // The base law's roughness angle [rad] at a given value of its own wear measure (the
   // `plastic_slip` above) and normal stress, as on a virgin surface: lets an effect ask what a
   // surface worn less than the law's single history would offer (directional_wear). Optional.

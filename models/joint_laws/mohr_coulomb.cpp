@@ -90,6 +90,8 @@ void MohrCoulomb::update(const Params& p, State& s, const JointKinematics& k, Jo
   ctx.dilation_rate = sign * std::tan(p.dilation_angle);
   ctx.toward_origin = u_s_before * k.du_s < 0.0;
   ctx.dt = k.dt;
+  ctx.tau = s.tau;
+  ctx.shear_stiffness = p.ks;
   ctx.roughness_at = [](const void* law, double, double) { return static_cast<const Params*>(law)->dilation_angle; };
   ctx.law = &p;
   chain.modify(ctx);

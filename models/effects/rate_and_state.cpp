@@ -1,0 +1,112 @@
+// rate_and_state: Dieterich-Ruina rate- and state-dependent friction on the base law's basic
+// friction (Dieterich 1979; Ruina 1983), with the ageing law for the state theta and the
+// regularisation of Rice & Ben-Zion (1996) (also Lapusta et al. 2000), which stays finite at zero
+// slip rate:
+//   mu(V, theta) = a asinh[ V/(2 V0) exp((mu0 + b ln(V0 theta/Dc))/a) ],   mu0 = tan(phi_b)
+//   d theta/dt = 1 - V theta/Dc                                            (ageing)
+//   steady state theta = Dc/V:  mu_ss(V) = a asinh[ V/(2 V0) exp((mu0 + b ln(V0/V))/a) ]
+//                                        ~ mu0 + (a - b) ln(V/V0)
+// The strength the base law uses becomes strength + sigma_n (mu - mu0): at the reference velocity
+// V0 in steady state the base law is unchanged (mu_ss(V0) = mu0 to within a exp(-2 mu0/a)), so a
+// law calibrated at the laboratory's pseudo-static rate keeps its peak; b > a weakens with
+// velocity and, with a compliant loading frame softer than sigma_n (b - a)/Dc, gives stick-slip.
+// The slip rate is the law's plastic slip rate, found with the strength: an increment that
+// takes the elastic trial stress tau_tr = |tau + ks du_s| above the strength S slips by
+// (tau_tr - S)/ks, so V = (tau_tr - S)/(ks dt) and S = strength + sigma_n (mu(V, theta) - mu0).
+// With mu inverted, V = 2 V0 exp(-Psi/a) sinh(mu/a), Psi = mu0 + b ln(V0 theta/Dc), this is one
+// increasing convex equation in mu, solved by Newton from the no-slip side (monotone convergence):
+//   strength + sigma_n (mu - mu0) + ks dt V(mu) = tau_tr.
+// A stuck joint thus creeps at the tiny V the regularised law gives below its static strength
+// (and ages: theta grows by dt), a slipping one slips at the rate its overstress implies. theta is
+// taken at the start of the increment and then advanced over dt exactly for that V:
+// theta <- Dc/V + (theta - Dc/V) exp(-V dt/Dc). With dt = 0 (pseudo-static element paths, a
+// pure normal load) the joint is taken as sliding in steady state at V0: theta = Dc/V0 and the
+// base law's strength is left as it is.
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "models/effects/effect.hpp"
+
+namespace rockdem {
+
+struct RateAndState {
+  static constexpr const char* name = "rate_and_state";
+  struct Params {
+    bool enabled;
+    double a, b, dc, v0;
+    static std::vector<Param<Params>> spec() {
+      using P = Params;
+      return {
+          flag("enabled", &P::enabled, true, "apply the effect; false leaves the base law unchanged, bit for bit"),
+          real("a", &P::a, Dimension::dimensionless, "direct-effect parameter a (rock: 0.005-0.015)").positive().max(0.5).def(0.01),
+          real("b", &P::b, Dimension::dimensionless, "evolution-effect parameter b; b > a: velocity weakening")
+              .non_negative()
+              .max(0.5)
+              .def(0.015),
+          real("critical_slip", &P::dc, Dimension::length,
+               "Dc: slip over which the state evolves (rock surfaces: 1-100 um)")
+              .positive()
+              .def(20e-6),
+          real("reference_velocity", &P::v0, Dimension::velocity,
+               "V0: velocity at which the base law's basic friction is the steady-state friction (the rate it was "
+               "calibrated at; the report's pseudo-static tests ran at 0.042 mm/s); also the velocity assumed when "
+               "dt = 0")
+              .positive()
+              .def(4.2e-5),
+      };
+    }
+  };
+  struct State {
+    double theta;  // state variable [s]
+  };
+  static void init(const Params& p, State& s) { s.theta = p.dc / p.v0; }
+  static void modify(const Params& p, State& s, ShearContext& ctx) {
+    if (!(ctx.dt > 0.0)) {
+      s.theta = p.dc / p.v0;
+      return;
+    }
+    const double sigma = ctx.sigma_n, kdt = ctx.shear_stiffness * ctx.dt;
+    if (!(sigma > 0.0) || !(kdt > 0.0)) {
+      s.theta += ctx.dt;  // no contact: the surfaces age
+      return;
+    }
+    const double mu0 = std::tan(ctx.basic_friction);
+    const double tau_tr = std::abs(ctx.tau + ctx.shear_stiffness * ctx.du_s);
+    const double base = ctx.strength - sigma * mu0;  // the law's strength beyond basic friction
+    const double psi = mu0 + p.b * std::log(p.v0 * s.theta / p.dc);
+    // h(mu) = base + sigma mu + kdt V(mu) - tau_tr, V(mu) = V0 [e^((mu - psi)/a) - e^((-mu - psi)/a)].
+    double mu = (tau_tr - base) / sigma;  // V = 0
+    double v = 0.0;
+    if (mu > 0.0) {
+      for (int it = 0; it < 60; ++it) {
+        const double ep = std::exp((mu - psi) / p.a), em = std::exp((-mu - psi) / p.a);
+        v = p.v0 * (ep - em);
+        const double h = base + sigma * mu + kdt * v - tau_tr;
+        const double step = h / (sigma + kdt * p.v0 / p.a * (ep + em));
+        mu -= step;
+        if (!(std::abs(step) > 1e-14 * (mu0 + 1.0))) break;
+      }
+      mu = std::max(0.0, mu);
+      v = std::max(0.0, (tau_tr - base - sigma * mu) / kdt);
+    } else {
+      mu = 0.0;
+    }
+    ctx.strength = std::max(0.0, base + sigma * mu);
+    if (v > 0.0) {
+      const double ss = p.dc / v;
+      s.theta = ss + (s.theta - ss) * std::exp(-v * ctx.dt / p.dc);
+    } else {
+      s.theta += ctx.dt;
+    }
+  }
+  static void after(const Params&, State&, const ShearContext&, const JointResponse&) {}
+};
+
+}  // namespace rockdem
+
+ROCKDEM_REGISTER_EFFECT(rockdem::RateAndState,
+                        "Dieterich-Ruina rate-and-state friction (ageing law, Rice & Ben-Zion regularisation) on the "
+                        "basic friction; with a soft loading frame it can stick and slip",
+                        "Dieterich (1979) JGR 84(B5):2161-2168; Ruina (1983) JGR 88(B12):10359-10370; Rice & "
+                        "Ben-Zion (1996) PNAS 93:3811-3818; Lapusta et al. (2000) JGR 105(B10):23765-23789")
