@@ -268,6 +268,15 @@ ElementStage read_stage(const toml::table& t, const std::string& file, const std
   return st;
 }
 
+const toml::array& stage_tables(const toml::table& root, const std::string& file) {
+  const auto* sn = root.get("stage");
+  const auto* sa = sn ? sn->as_array() : nullptr;
+  if (!sa || sa->empty() || !sa->is_array_of_tables()) {
+    throw InputError(file + ": needs at least one [[stage]] table (normal_stress = \"3 MPa\", path = \"cycles\", ...)");
+  }
+  return *sa;
+}
+
 LabTest read_lab_test(const std::string& file) {
   const toml::table root = parse_toml_file(file, "case file");
   LabTest c;
@@ -363,13 +372,8 @@ LabTest read_lab_test(const std::string& file) {
   c.model = located(file, params_where, [&] { return make_joint_model(c.law, law_params, effects, params_where); });
 
   // [[stage]]
-  const auto* sn = root.get("stage");
-  const auto* sa = sn ? sn->as_array() : nullptr;
-  if (!sa || sa->empty() || !sa->is_array_of_tables()) {
-    throw InputError(file + ": needs at least one [[stage]] table (normal_stress = \"3 MPa\", path = \"cycles\", ...)");
-  }
   int index = 0;
-  for (const auto& node : *sa) {
+  for (const auto& node : stage_tables(root, file)) {
     ++index;
     const auto& t = *node.as_table();
     const std::string path = "stage[" + std::to_string(index) + "]";

@@ -66,6 +66,9 @@ struct LabTest {
 // Reads and checks a laboratory-test case file.
 LabTest read_lab_test(const std::string& path);
 
+// The [[stage]] tables of a test file (at least one; InputError otherwise).
+const toml::array& stage_tables(const toml::table& root, const std::string& file);
+
 // One [[stage]] table's normal condition and shear path (not its params). `path` names the table
 // in messages (e.g. "stage[2]"); `extra_keys` are further keys the caller handles itself. Relative
 // drive files are taken from the folder of `file`.

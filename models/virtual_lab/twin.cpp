@@ -158,13 +158,8 @@ TwinCase read_twin_case(const std::string& file) {
                      format_quantity(s.time_step, Dimension::time) + ")");
   }
 
-  const auto* sn = root.get("stage");
-  const auto* sa = sn ? sn->as_array() : nullptr;
-  if (!sa || sa->empty() || !sa->is_array_of_tables()) {
-    throw InputError(file + ": needs at least one [[stage]] table (normal_stress = \"3 MPa\", path = \"cycles\", ...)");
-  }
   int index = 0;
-  for (const auto& node : *sa) {
+  for (const auto& node : stage_tables(root, file)) {
     ++index;
     const std::string path = "stage[" + std::to_string(index) + "]";
     ElementStage st = read_stage(*node.as_table(), file, path);
