@@ -6,7 +6,7 @@
 // base law's strength
 //   delta = i2 exp(-S/s2) - i1 (1 - exp(-W/W1)),      tau = sigma_n tan(alpha + delta),
 // alpha = atan(strength/sigma_n) the base law's mobilised angle (after earlier effects), S the
-// base law's plastic slip measure accumulated while alpha is not rising (so that a law that
+// base law's plastic slip measure accumulated while its roughness angle is not rising (so that a law that
 // mobilises its roughness before its peak, Barton-Bandis, keeps the second-order asperities up to
 // that peak; Mohr-Coulomb and Continuously-Yielding count from the first slip), W the plastic work
 // dissipated (sum of tau du_s^p). i2 raises the first peak and is gone a few s2 past it; i1 is the
@@ -54,16 +54,19 @@ struct TwoOrderRoughness {
   struct State {
     double slip;        // S: the base law's plastic slip measure accumulated past its peak [m]
     double last_slip;   // its value seen at the last update [m]
-    double last_alpha;  // the base law's mobilised angle at the last update [rad]
+    double last_roughness;  // the base law's roughness angle at the last update [rad]
     double work;        // W: plastic work dissipated [J/m^2]
   };
   static void init(const Params&, State& s) { s = State{}; }
   static void modify(const Params& p, State& s, ShearContext& ctx) {
     if (!(ctx.sigma_n > 0.0)) return;
     const double alpha = std::atan(ctx.strength / ctx.sigma_n);
-    if (alpha <= s.last_alpha) s.slip += std::max(0.0, ctx.plastic_slip - s.last_slip);
+    // "Rising" is judged on the law's roughness angle, which the laws evaluate from the state at
+    // the start of the increment: a test on alpha (from the trial normal stress) would switch with
+    // the normal displacement the element driver is solving for, and make the strength jump.
+    if (ctx.roughness_angle <= s.last_roughness) s.slip += std::max(0.0, ctx.plastic_slip - s.last_slip);
     s.last_slip = ctx.plastic_slip;
-    s.last_alpha = alpha;
+    s.last_roughness = ctx.roughness_angle;
     const double delta = p.i2 * std::exp(-s.slip / p.s2) - p.i1 * (1.0 - std::exp(-s.work / p.w1));
     constexpr double kMaxAngle = 80.0 * std::numbers::pi / 180.0;
     ctx.strength = ctx.sigma_n * std::tan(std::clamp(alpha + delta, 0.0, kMaxAngle));
