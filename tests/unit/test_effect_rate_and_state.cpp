@@ -157,15 +157,33 @@ TEST(EffectRateAndState, SoftFrameChattersAtTheHarmonicTestsFrequency) {
   EXPECT_EQ(a.unconverged_steps(), 0);
 }
 
-// Off by default: a driver without frame options drives the joint offset directly, exactly.
-TEST(EffectRateAndState, FrameOffIsTheRigidDriver) {
+// Off by default: frame_stiffness = 0 is the rigid driver, row for row, whatever frame_mass is; a
+// frame needs a mass; and through a frame a rate-independent joint still slides at its strength
+// (Mohr-Coulomb's 1 tan 38 deg, the frame only delays the joint behind the drive).
+TEST(EffectRateAndState, FrameOffIsTheRigidDriverAndFrameKeepsTheStrength) {
   auto m = model("mohr_coulomb", mc_report());
-  ElementDriver rigid(*m), defaults(*m, ElementOptions{});
+  ElementOptions mass_only;
+  mass_only.frame_mass = 250.0;
+  ElementDriver rigid(*m), off(*m, mass_only);
   const auto f = rigid.run({cnl(3e6, ShearPath::sinusoid(0.005, 1.4, 1))});
-  for (const auto& r : f.rows) ASSERT_TRUE(std::isfinite(r.shear_stress_MPa));
+  const auto g = off.run({cnl(3e6, ShearPath::sinusoid(0.005, 1.4, 1))});
+  ASSERT_EQ(f.rows.size(), g.rows.size());
+  for (std::size_t i = 0; i < f.rows.size(); ++i) {
+    ASSERT_EQ(f.rows[i].shear_stress_MPa, g.rows[i].shear_stress_MPa);
+    ASSERT_EQ(f.rows[i].shear_disp_mm, g.rows[i].shear_disp_mm);
+  }
   ElementOptions bad;
   bad.frame_stiffness = 1e8;
   EXPECT_THROW(ElementDriver(*m, bad), InputError);  // a frame needs a mass
+  auto plain = model("mohr_coulomb", mc_report({{"dilation_angle", "0 deg"}}));
+  ElementDriver framed(*plain, soft_frame());
+  const auto h = framed.run({cnl(1e6, ShearPath::sinusoid(0.0127, 1.4, 1))});
+  EXPECT_NEAR(max_tau(h, 0, h.rows.size()), std::tan(38.0 * kDeg), 1e-6);
+  EXPECT_NEAR(min_tau(h, 0, h.rows.size()), -std::tan(38.0 * kDeg), 1e-6);
+  double umax = 0.0;
+  for (const auto& r : h.rows) umax = std::max(umax, r.shear_disp_mm);
+  EXPECT_LT(umax, 12.7 - 2.0);  // the frame stretches by tau/k_f = 2.6 mm at slip
+  EXPECT_GT(umax, 12.7 - 3.5);
 }
 
 // The frame is reachable from a laboratory-test case: [element] frame_stiffness and frame_mass.
