@@ -6,7 +6,7 @@
 Two panels: shear stress [MPa] and normal displacement [mm], both against shear displacement
 [mm]; the measurement in solid lines, the model dashed, one colour per stage (shades of it for
 successive cycles, darker = later). Both files are in the measurement format
-(shared/docs/measurement-format.md). Run with Debian's /usr/bin/python3 (python3-matplotlib);
+(docs/measurement-format.md). Run with Debian's /usr/bin/python3 (python3-matplotlib);
 `rockdem compare --plot DIR` calls it so.
 """
 import argparse

@@ -1,5 +1,5 @@
 #pragma once
-// Splits a single-joint shear record (the measurement format, shared/docs/measurement-format.md)
+// Splits a single-joint shear record (the measurement format, docs/measurement-format.md)
 // into stages and monotonic segments of shear displacement, and labels every row with its stage,
 // cycle, quadrant and shearing direction as the format document defines them:
 //   cycle     one excursion 0 -> +max -> 0 -> -max -> 0 (or 0 -> +max -> 0, one-sided);

@@ -1,4 +1,4 @@
-// Reader and writer of the single-joint measurement CSV (shared/docs/measurement-format.md).
+// Reader and writer of the single-joint measurement CSV (docs/measurement-format.md).
 // The reader is strict on purpose: a laboratory record with a silently skipped row would bias a
 // calibration without anybody noticing, so every rule violation stops with file, line and rule.
 #include "framework/io/measurement_csv.hpp"

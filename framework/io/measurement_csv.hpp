@@ -1,5 +1,5 @@
 #pragma once
-// Single-joint shear test records in the measurement format of shared/docs/measurement-format.md:
+// Single-joint shear test records in the measurement format of docs/measurement-format.md:
 // '# key: value' metadata lines, a header naming the six required columns in any order (extra
 // columns are kept), then one numeric row per sample. Laboratory records and rockdem results use
 // the same format so that they can be compared line by line.
