@@ -43,7 +43,9 @@ struct DirectionalWear {
           flag("enabled", &Params::enabled, true, "apply the effect; false leaves the base law unchanged, bit for bit"),
           integer("bins", &Params::bins, 2,
                   "wear bins: 2 = one per side of the mated position; 4..16 (even) = resolved along the surface, "
-                  "bins/2 per side over `extent`"),
+                  "bins/2 per side over `extent`")
+              .min(2)
+              .max(kMaxBins),
           real("extent", &Params::extent, Dimension::length,
                "offset covered by the bins on each side (beyond it: the outermost bin); bin width extent/(bins/2) "
                "should exceed the base law's peak displacement")
