@@ -76,15 +76,23 @@ struct RateAndState {
     const double base = ctx.strength - sigma * mu0;  // the law's strength beyond basic friction
     const double psi = mu0 + p.b * std::log(p.v0 * s.theta / p.dc);
     // h(mu) = base + sigma mu + kdt V(mu) - tau_tr, V(mu) = V0 [e^((mu - psi)/a) - e^((-mu - psi)/a)].
-    double mu = (tau_tr - base) / sigma;  // V = 0
-    double v = 0.0;
-    if (mu > 0.0) {
+    const double mu_hi = (tau_tr - base) / sigma;  // V = 0
+    double mu = mu_hi, v = 0.0;
+    if (mu_hi > 0.0) {
+      // Start from the friction at the increment's total velocity (the slip rate of steady
+      // sliding): a start left of the root lands right of it after one step (h is convex), and
+      // from the right Newton decreases monotonically to it.
+      const double v_total = std::abs(ctx.du_s) / ctx.dt;
+      if (v_total > 0.0) {
+        const double l = std::log(v_total / (2.0 * p.v0)) + psi / p.a;
+        mu = std::min(mu_hi, l > 20.0 ? p.a * (l + std::numbers::ln2) : p.a * std::asinh(std::exp(l)));
+      }
       for (int it = 0; it < 60; ++it) {
         const double ep = std::exp((mu - psi) / p.a), em = std::exp((-mu - psi) / p.a);
         v = p.v0 * (ep - em);
         const double h = base + sigma * mu + kdt * v - tau_tr;
         const double step = h / (sigma + kdt * p.v0 / p.a * (ep + em));
-        mu -= step;
+        mu = std::min(mu_hi, mu - step);
         if (!(std::abs(step) > 1e-14 * (mu0 + 1.0))) break;
       }
       mu = std::max(0.0, mu);

@@ -145,7 +145,7 @@ TEST(EffectRateAndState, SoftFrameChattersAtTheHarmonicTestsFrequency) {
   const int drops = stress_drops(f, 0, f.rows.size(), 0.01);
   const int drops_plain = stress_drops(g, 0, g.rows.size(), 0.01);
   // Past the start-up transient (the block starts from rest while the drive starts at its peak
-  // velocity, 0.11 m/s: the first eighth of a cycle overshoots by about 7 %).
+  // velocity, 0.11 m/s: the first sixteenth of the record overshoots by about 4 %).
   const std::size_t settled = f.rows.size() / 16;
   const double peak = std::max(max_tau(f, settled, f.rows.size()), -min_tau(f, settled, f.rows.size()));
   std::printf("stick-slip: %d stress drops > 0.01 MPa with rate_and_state, %d without; peak %.4f MPa "
