@@ -5,8 +5,10 @@
 #include <cmath>
 #include <filesystem>
 #include <numbers>
+#include <vector>
 #include <unistd.h>
 
+#include "framework/io/lab_test.hpp"
 #include "models/joint_laws/barton_bandis.hpp"
 #include "models/joint_laws/continuously_yielding.hpp"
 #include "tests/unit/joint_law_test_util.hpp"
@@ -176,10 +178,15 @@ TEST(ElementDriver, RejectsBadOptionsAndMismatchedStageModels) {
 // (columns, non-decreasing time, stages in order, no NaN), with the metadata filled in.
 TEST(ElementDriver, CommandLineOutputReadsBackAsAMeasurementFile) {
   namespace fs = std::filesystem;
-  const fs::path dir = fs::path(ROCKDEM_SOURCE_DIR) / "cases" / "element";
+  // Every element case and every laboratory-test case (the hand-written DEM cases of
+  // cases/direct_shear are not element cases).
+  std::vector<fs::path> files;
+  for (const char* sub : {"element", "direct_shear"})
+    for (const auto& entry : fs::directory_iterator(fs::path(ROCKDEM_SOURCE_DIR) / "cases" / sub))
+      if (entry.path().extension() == ".toml" && is_lab_test_file(entry.path().string())) files.push_back(entry.path());
   int n = 0;
-  for (const auto& entry : fs::directory_iterator(dir)) {
-    if (entry.path().extension() != ".toml") continue;
+  for (const fs::path& path : files) {
+    const fs::directory_entry entry(path);
     const std::string out =
         (fs::temp_directory_path() / ("rockdem_elem_" + std::to_string(::getpid()) + ".csv")).string();
     const std::string cmd = std::string(ROCKDEM_BINARY) + " element --quiet '" + entry.path().string() + "' --out '" + out + "'";
@@ -193,5 +200,5 @@ TEST(ElementDriver, CommandLineOutputReadsBackAsAMeasurementFile) {
     ASSERT_EQ(f.extra_columns.size(), 2u);
     ++n;
   }
-  EXPECT_GE(n, 7);
+  EXPECT_GE(n, 4 + 21);
 }
