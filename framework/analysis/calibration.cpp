@@ -14,9 +14,12 @@
 #include <thread>
 
 #include <ceres/ceres.h>
+#include <glog/logging.h>
 #include <Eigen/Dense>
 
 #include "framework/core/error.hpp"
+#include "framework/io/lab_test.hpp"
+#include "framework/io/toml_values.hpp"
 #include "models/joint_laws/joint_law.hpp"
 
 namespace rockdem {
@@ -193,15 +196,21 @@ class Evaluator {
     const std::size_t kk = k(), nn = r0.size();
     J.setZero(static_cast<Eigen::Index>(nn), static_cast<Eigen::Index>(kk));
     std::atomic<std::size_t> next{0};
-    std::atomic<bool> ok{true};
     auto work = [&] {
       std::vector<double> xp(x, x + kk), r;
       for (std::size_t j = next++; j < kk; j = next++) {
-        const double h = xp[j] + opt_.fd_step <= 1.0 ? opt_.fd_step : -opt_.fd_step;
+        // Forward step (backward at the upper bound); where the model cannot run there, the
+        // other side; where neither runs, the column stays zero (no usable sensitivity) rather
+        // than failing the whole step.
+        double h = xp[j] + opt_.fd_step <= 1.0 ? opt_.fd_step : -opt_.fd_step;
         xp[j] = x[j] + h;
-        if (!residuals(xp.data(), step, r) || r.size() != nn) {
-          ok = false;
-        } else {
+        bool got = residuals(xp.data(), step, r) && r.size() == nn;
+        if (!got && x[j] - h >= 0.0 && x[j] - h <= 1.0) {
+          h = -h;
+          xp[j] = x[j] + h;
+          got = residuals(xp.data(), step, r) && r.size() == nn;
+        }
+        if (got) {
           for (std::size_t i = 0; i < nn; ++i)
             J(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = (r[i] - r0[i]) / h;
         }
@@ -213,7 +222,7 @@ class Evaluator {
     for (std::size_t t = 1; t < nt; ++t) pool.emplace_back(work);
     work();
     for (auto& t : pool) t.join();
-    return ok;
+    return true;
   }
 
  private:
@@ -392,6 +401,10 @@ DataEstimates estimate_from_data(const MeasurementFile& data, const Segmentation
 }
 
 CalibrationResult calibrate(const MeasurementFile& data, const Segmentation& seg, const CalibrationOptions& options) {
+  // Ceres logs through glog to stderr; failed trial steps are expected here and reported in the
+  // result, so only fatal messages may pass (a library setting, made once).
+  static std::once_flag quiet_glog;
+  std::call_once(quiet_glog, [] { FLAGS_minloglevel = google::GLOG_FATAL; });
   const auto t0 = std::chrono::steady_clock::now();
   const auto& law_entry = JointLawRegistry::instance().get(options.law, "joint law", "calibrate --law");
   CalibrationResult res;
@@ -535,21 +548,40 @@ CalibrationResult calibrate(const MeasurementFile& data, const Segmentation& seg
   Evaluator ev(data, seg, options, slots, free, stages);
   const std::size_t kk = free.size();
   std::vector<double> x(kk);
-  for (std::size_t j = 0; j < kk; ++j) x[j] = ev.to_unit(j, slots[free[j]].value);
+  // Start a little inside the bounds: a default on a bound (an effect's "off" value) is a poor
+  // start for a bounded trust-region step.
+  for (std::size_t j = 0; j < kk; ++j) x[j] = std::clamp(ev.to_unit(j, slots[free[j]].value), 0.02, 0.98);
 
-  // The starting point must run: a model that cannot be built is the user's input error.
+  // The starting point must run. Estimates can be absurd for a law (a first-stroke dilation
+  // angle accumulated monotonically over 40 cycles lifts the joint off), so the registry defaults,
+  // then the lower bounds, of the free parameters are tried before giving up: a model that
+  // cannot be run at all is the user's input error.
   {
     std::vector<double> r;
     std::string why;
-    if (!ev.residuals(x.data(), coarse, r, nullptr, nullptr, &why)) {
-      throw InputError("calibrate: the model at the starting values cannot be run or compared with the data: " + why);
+    bool ok = ev.residuals(x.data(), coarse, r, nullptr, nullptr, &why);
+    for (int attempt = 0; !ok && attempt < 2; ++attempt) {
+      for (std::size_t j = 0; j < kk; ++j) {
+        const Slot& s = slots[free[j]];
+        if (attempt == 0 && s.info.default_real && std::isfinite(*s.info.default_real) && !options.start.count(s.name)) {
+          x[j] = ev.to_unit(j, std::clamp(*s.info.default_real, s.lower, s.upper));
+        } else if (attempt == 1 && s.info.dim != Dimension::stiffness && !options.start.count(s.name)) {
+          x[j] = 0.0;
+        }
+      }
+      ok = ev.residuals(x.data(), coarse, r);
+      if (ok) res.warnings.push_back(std::string("the data estimates could not be run; the fit started from the ") +
+                                     (attempt == 0 ? "registry defaults" : "lower bounds") + " of the free parameters");
     }
+    if (!ok) throw InputError("calibrate: the model at the starting values cannot be run or compared with the data: " + why);
+    for (std::size_t j = 0; j < kk; ++j) slots[free[j]].start = ev.to_si(j, x[j]);
   }
 
   // Levenberg-Marquardt at the coarse step to convergence, then a polish at the fine step from
   // there (a few iterations): rate-sensitive laws (continuously-yielding) shift by a few per cent
   // in their parameters between the two steps even where the NRMSE does not.
-  auto solve = [&](double step, int max_iterations) {
+  std::atomic<int> iterations{0};
+  auto solve_from = [&](std::vector<double>& xs, double step, int max_iterations) {
     SharedResiduals shared(ev, step);
     ceres::Problem::Options po;
     po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
@@ -558,10 +590,10 @@ CalibrationResult calibrate(const MeasurementFile& data, const Segmentation& seg
     if (options.loss_scale > 0.0) loss = std::make_unique<ceres::SoftLOneLoss>(options.loss_scale);
     const std::size_t nn = ev.n();
     for (std::size_t i = 0; i < nn; ++i)
-      problem.AddResidualBlock(new RowCost(shared, i, static_cast<int>(kk)), loss.get(), x.data());
+      problem.AddResidualBlock(new RowCost(shared, i, static_cast<int>(kk)), loss.get(), xs.data());
     for (std::size_t j = 0; j < kk; ++j) {
-      problem.SetParameterLowerBound(x.data(), static_cast<int>(j), 0.0);
-      problem.SetParameterUpperBound(x.data(), static_cast<int>(j), 1.0);
+      problem.SetParameterLowerBound(xs.data(), static_cast<int>(j), 0.0);
+      problem.SetParameterUpperBound(xs.data(), static_cast<int>(j), 1.0);
     }
     ceres::Solver::Options so;
     so.minimizer_type = ceres::TRUST_REGION;
@@ -576,13 +608,40 @@ CalibrationResult calibrate(const MeasurementFile& data, const Segmentation& seg
     so.minimizer_progress_to_stdout = false;
     ceres::Solver::Summary summary;
     ceres::Solve(so, &problem, &summary);
-    res.iterations += static_cast<int>(summary.iterations.size());
+    iterations += static_cast<int>(summary.iterations.size());
     return summary;
   };
+  auto solve = [&](double step, int max_iterations) { return solve_from(x, step, max_iterations); };
+  bool polished = false;
   if (kk > 0) {
-    ceres::Solver::Summary summary = solve(coarse, options.max_iterations);
-    if (coarse > fine && summary.termination_type != ceres::FAILURE) {
+    ceres::Solver::Summary summary;
+    if (options.starts < 2) {
+      summary = solve(coarse, options.max_iterations);
+    } else {
+      // A second start in the middle of the [0, 1] box, in parallel: the data estimates can sit
+      // in the basin of a poorer minimum (a law bent to make up for what it lacks).
+      std::vector<double> x2(kk, 0.5);
+      ceres::Solver::Summary s2;
+      std::thread other([&] { s2 = solve_from(x2, coarse, options.max_iterations); });
+      summary = solve(coarse, options.max_iterations);
+      other.join();
+      if (s2.termination_type != ceres::FAILURE &&
+          (summary.termination_type == ceres::FAILURE || s2.final_cost < summary.final_cost)) {
+        x = x2;
+        summary = s2;
+      }
+    }
+    // Without `polish`, the fine step is still used where the two steps disagree by more than
+    // 1 % in the combined NRMSE (a law or effect sensitive to the step, e.g. at reversals).
+    auto steps_disagree = [&] {
+      std::vector<double> rc, rf;
+      Comparison cc, cf;
+      if (!ev.residuals(x.data(), coarse, rc, &cc) || !ev.residuals(x.data(), fine, rf, &cf)) return true;
+      return std::abs(cc.combined_nrmse - cf.combined_nrmse) > 0.01 * cf.combined_nrmse;
+    };
+    if (coarse > fine && summary.termination_type != ceres::FAILURE && (options.polish || steps_disagree())) {
       const ceres::Solver::Summary polish = solve(fine, std::max(3, options.max_iterations / 4));
+      polished = true;
       if (polish.termination_type == ceres::FAILURE) summary = polish;
     }
     switch (summary.termination_type) {
@@ -595,14 +654,20 @@ CalibrationResult calibrate(const MeasurementFile& data, const Segmentation& seg
     res.status = "converged";
     res.converged = true;
   }
+  res.iterations = iterations.load();
 
   // Fine-step evaluation, coarse-step NRMSE, Jacobian and standard errors at the optimum.
   std::vector<double> r_fine, r_coarse;
   Comparison c_coarse;
-  // Standard errors from the Jacobian at the fine step (the polished optimum).
-  if (!ev.residuals(x.data(), fine, r_fine, &res.comparison, &res.model) ||
-      !ev.residuals(x.data(), coarse, r_coarse, &c_coarse)) {
+  // Standard errors from the Jacobian at the step of the optimum (fine when polished).
+  const bool at_fine = polished || coarse <= fine;
+  if (!ev.residuals(x.data(), coarse, r_coarse, &c_coarse, &res.model)) {
     throw std::runtime_error("calibrate: the fitted model could not be evaluated");
+  }
+  if (!ev.residuals(x.data(), fine, r_fine, &res.comparison, &res.model)) {
+    res.warnings.push_back("the fitted model fails at the fine step; its errors are those at the fitting step");
+    r_fine = r_coarse;
+    res.comparison = c_coarse;
   }
   res.nrmse = nrmse_of(res.comparison);
   res.nrmse_fit = nrmse_of(c_coarse);
@@ -620,7 +685,7 @@ CalibrationResult calibrate(const MeasurementFile& data, const Segmentation& seg
   Eigen::VectorXd se_x = Eigen::VectorXd::Constant(static_cast<Eigen::Index>(kk), kInf);
   if (kk > 0) {
     Eigen::MatrixXd J;
-    if (ev.jacobian(x.data(), r_fine, fine, J)) {
+    if (ev.jacobian(x.data(), at_fine ? r_fine : r_coarse, at_fine ? fine : coarse, J)) {
       const Eigen::MatrixXd JtJ = J.transpose() * J;
       const double s2 = res.n > kk ? res.rss / static_cast<double>(res.n - kk) : 0.0;
       Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(JtJ);
@@ -673,6 +738,105 @@ CalibrationResult calibrate(const MeasurementFile& data, const Segmentation& seg
   res.model_description = ev.build(vals)->description();
   res.wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   return res;
+}
+
+namespace {
+
+std::vector<std::string> split_list(const std::string& s) {
+  std::vector<std::string> out;
+  std::stringstream ss(s);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    const auto b = item.find_first_not_of(' '), e = item.find_last_not_of(' ');
+    if (b != std::string::npos) out.push_back(item.substr(b, e - b + 1));
+  }
+  return out;
+}
+
+// --set NAME=VALUE: a raw value for the law or an effect ("effect.param"), checked when the model
+// is built (an unknown name or value is an InputError listing the valid ones).
+void set_value(const std::string& arg, CalibrationOptions& o) {
+  const auto eq = arg.find('=');
+  if (eq == std::string::npos || eq == 0 || eq + 1 == arg.size()) {
+    throw InputError("--set " + arg + ": write NAME=VALUE, e.g. --set dilation=reversible");
+  }
+  std::string name = arg.substr(0, eq);
+  const std::string text = arg.substr(eq + 1);
+  RawValue raw;
+  raw.where = "--set " + arg;
+  char* end = nullptr;
+  const double num = std::strtod(text.c_str(), &end);
+  if (text == "true" || text == "false") raw.value = text == "true";
+  else if (end != text.c_str() && *end == '\0') raw.value = num;
+  else raw.value = text;
+  const auto dot = name.find('.');
+  if (dot == std::string::npos) {
+    o.law_values[name] = raw;
+    return;
+  }
+  const std::string effect = name.substr(0, dot);
+  if (std::find(o.effects.begin(), o.effects.end(), effect) == o.effects.end()) {
+    throw InputError("--set " + arg + ": effect '" + effect + "' is not in --effects");
+  }
+  o.effect_values[effect][name.substr(dot + 1)] = raw;
+}
+
+// A laboratory case's stages, element settings and (same law) parameters as starting values.
+void apply_case(const std::string& case_file, CalibrationOptions& opt, std::vector<std::string>& notes) {
+  const LabTest test = read_lab_test(case_file);
+  opt.stages = test.stages;
+  bool per_stage = false;
+  for (auto& s : opt.stages) {
+    per_stage = per_stage || s.model != nullptr;
+    s.model = nullptr;
+  }
+  if (per_stage) notes.push_back(case_file + ": per-stage parameters ([stage.params]) are not calibrated; one set is fitted to all stages");
+  opt.element.max_step = test.step;
+  opt.element.length = test.joint_length;
+  opt.element.frame_stiffness = test.frame_stiffness;
+  opt.element.frame_mass = test.frame_mass;
+  if (test.law == opt.law) {
+    opt.law_values = raw_values(test.joint_params, case_file, "joint.params");
+  } else {
+    notes.push_back(case_file + " is a " + test.law + " case; its parameters are not used as starting values for " + opt.law);
+  }
+  for (const auto& e : test.effects) {
+    const auto* t = e.as_table();
+    if (!t) continue;
+    const auto* nm = t->get("name");
+    if (!nm || !nm->is_string()) continue;
+    const std::string name = nm->as_string()->get();
+    if (std::find(opt.effects.begin(), opt.effects.end(), name) != opt.effects.end()) {
+      opt.effect_values[name] = raw_values(*t, case_file, "joint.effects." + name, {"name"});
+    }
+  }
+}
+
+}  // namespace
+
+void apply_inputs(const std::string& data_file, const MeasurementFile& data, const CalibrationInputs& in,
+                  CalibrationOptions& opt, std::vector<std::string>& notes) {
+  opt.law = in.law;
+  opt.effects = split_list(in.effects);
+  opt.free = in.free;
+  for (const auto& f : in.fix) {
+    const auto eq = f.find('=');
+    if (eq == std::string::npos || eq == 0 || eq + 1 == f.size()) {
+      throw InputError("--fix " + f + ": write NAME=VALUE, e.g. --fix friction=\"30 deg\"");
+    }
+    opt.fix_text[f.substr(0, eq)] = f.substr(eq + 1);
+  }
+  const std::string& case_file = in.case_file;
+  if (data.rows.size() < 2) throw InputError(data_file + ": the record has fewer than two rows; nothing to calibrate");
+  JointLawRegistry::instance().get(opt.law, "joint law", "--law");
+  for (const auto& e : opt.effects) EffectRegistry::instance().get(e, "effect", "--effects");
+  double length = 1.0;
+  for (const auto& [k, v] : data.metadata)
+    if (k == "joint_length_m") length = std::stod(v);
+  opt.element.length = length;
+  opt.element.max_step = 1e-5;  // the laboratory cases' element step, 0.01 mm
+  if (!case_file.empty()) apply_case(case_file, opt, notes);
+  for (const auto& a : in.set) set_value(a, opt);
 }
 
 nlohmann::json to_json(const CalibrationResult& r) {

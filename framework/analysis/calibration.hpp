@@ -52,9 +52,14 @@ struct CalibrationOptions {
   std::vector<ElementStage> stages;
   ElementOptions element;           // the final evaluation (max_step: the fine step)
   double fit_step = 5e-5;           // [m] driver step during the fit (>= element.max_step)
+  // Polish the coarse-step optimum with a few iterations at the fine step (false: only where the
+  // two steps' combined NRMSE differ by more than 1 %; otherwise the optimum and its Jacobian
+  // stay at the fitting step, the NRMSE and BIC being still evaluated at the fine step).
+  bool polish = true;
   double loss_scale = 0.1;          // soft-L1 scale c, fraction of the range; 0: plain least squares
   int max_iterations = 40;          // Levenberg-Marquardt iterations
   int threads = 2;                  // finite-difference columns evaluated in parallel
+  int starts = 1;                   // 2: also start from the middle of the box, in parallel; best kept
   double fd_step = 2e-3;            // forward-difference step in the [0, 1] parameter space
   CompareOptions compare;
 };
@@ -118,6 +123,19 @@ CalibrationResult calibrate(const MeasurementFile& data, const Segmentation& seg
 
 // The parameters fixed unless freed (documented in the user guide): "law_or_effect.param".
 const std::vector<std::string>& default_fixed_parameters();
+
+// What `rockdem calibrate` and `rockdem diagnose` read from their command lines: the law, the
+// effects as a comma list, a laboratory case (its stages, paths, element settings and, for the
+// same law, its parameters as starting values), --fix NAME=VALUE, --free NAME, --set NAME=VALUE
+// (a value that is not fitted, e.g. dilation=reversible; effect parameters as effect.param).
+struct CalibrationInputs {
+  std::string law, effects, case_file;
+  std::vector<std::string> fix, free, set;
+};
+// Fills `opt` (law, effects, fixes, element settings, stages) from them; notes say what of a case
+// is not used. InputErrors name the option and list what is valid.
+void apply_inputs(const std::string& data_file, const MeasurementFile& data, const CalibrationInputs& in,
+                  CalibrationOptions& opt, std::vector<std::string>& notes);
 
 nlohmann::json to_json(const CalibrationResult& r);
 std::string format_table(const CalibrationResult& r);

@@ -59,5 +59,25 @@ expect good 0 calibrate --data "$twin" --law mohr_coulomb --json "$tmp/cal.json"
   "friction" "NRMSE: shear stress" "fit: converged"
 grep -q '"nrmse"' "$tmp/cal.json" || { echo "FAIL good: no nrmse in the JSON"; fail=1; }
 
+# diagnose: the same checks on its inputs; a record of one forward stroke (no reverse shearing,
+# one side, one rate) names the effects that cannot be judged and why, and is no confident answer.
+expect diag_unknown_law 2 diagnose --data "$twin" --law barton -- "unknown joint law 'barton'" "barton_bandis"
+expect diag_unknown_effect 2 diagnose --data "$twin" --law mohr_coulomb --effects wear -- "unknown effect 'wear'" \
+  "directional_wear"
+{
+  echo "# joint_length_m: 0.2"
+  echo "$header"
+  awk 'BEGIN { for (i = 0; i <= 200; i++) { u = 0.05 * i; tau = (u < 0.2 ? 10 * u : 2.2 - 0.01 * u);
+         printf "%d,1,3,%g,%g,%g\n", 10 * i, u, tau, 0.05 * u } }'
+} >"$tmp/forward.csv"
+expect diag_forward_only 0 diagnose --data "$tmp/forward.csv" --law mohr_coulomb --json "$tmp/diag.json" -- \
+  "reverse_shear_degradation cannot be judged from this record: no reverse shearing" \
+  "dilation_recovery cannot be judged" "directional_wear cannot be judged" "rate_and_state cannot be judged" \
+  "not a confident answer"
+grep -q '"confident": false' "$tmp/diag.json" || { echo "FAIL diag_forward_only: confident is not false"; fail=1; }
+for k in '"base_law"' '"baseline"' '"segments"' '"covariates"' '"ranking"' '"ladder"' '"final"'; do
+  grep -q "$k" "$tmp/diag.json" || { echo "FAIL diag_forward_only: no $k in the JSON"; fail=1; }
+done
+
 [ "$fail" -eq 0 ] && echo "all calibrate bad-input checks passed"
 exit $fail

@@ -1,0 +1,95 @@
+#pragma once
+// Diagnosis of a joint law against a record: which physical effect is missing?
+//   1. calibrate the base law (calibration.hpp);
+//   2. localise the misfit by variable, stage, cycle and quadrant (compare's segments, worst lines);
+//   3. explain the residual by physical covariates per row (offset, toward_origin, cumulative_slip,
+//      cycle, velocity, normal_stress, fresh_surface): the score is the adjusted correlation ratio
+//      eta^2 of the residual binned on the covariate (Fisher's eta^2, corrected for the number of
+//      bins like an adjusted R^2), i.e. the share of the residual's variance its bin means explain;
+//   4. for every effect of the EffectRegistry (but those that are not physical, see
+//      non_physical_effects()), add it, recalibrate it with the base law (warm start), and rank by
+//      BIC = n ln(RSS/n) + k ln(n) (Schwarz 1978), n = compared residuals, k = free parameters;
+//      then climb a ladder: add the best effect while the BIC falls;
+//   5. JSON (to_json) and, with a report folder, the files plotted by scripts/plot_diagnosis.py.
+// Effects that the record cannot reveal (no reverse shearing, one side only, one rate, ...) are
+// named with the reason and kept out of the ladder. docs/user-guide-calibrate-diagnose.md.
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "framework/analysis/calibration.hpp"
+
+namespace rockdem {
+
+struct DiagnosisOptions {
+  CalibrationOptions base;           // the base law, element settings, stages, fixes
+  std::vector<std::string> effects;  // effects to try; empty: every physical effect registered
+  int threads = 2;                   // effect fits in parallel
+  int bins = 10;                     // covariate bins (quantiles; fewer for discrete covariates)
+  // Fit also the effects the record cannot reveal (their numbers then only say how the effect's
+  // side effects bend the law; they stay out of the ladder). Off: they are named, not fitted.
+  bool fit_unjudged = false;
+};
+
+// Per-row covariates of a record (one vector per covariate, one value per row).
+struct Covariates {
+  std::vector<std::string> names;
+  std::vector<std::vector<double>> values;
+};
+Covariates row_covariates(const MeasurementFile& data, const Segmentation& seg);
+
+struct CovariateScore {
+  std::string variable;  // "shear_stress", "normal_disp"
+  std::string name;
+  double score = 0.0;    // adjusted eta^2 in [0, 1]
+};
+// Scores of every covariate for each residual vector (residual[v][row]), best first.
+std::vector<CovariateScore> score_covariates(const Covariates& cov, const std::array<std::vector<double>, 2>& residual,
+                                             int bins = 10);
+
+// Effects of the registry that are not physical and never tried (strength_reduction: a factor of
+// safety device that scales the strength).
+const std::vector<std::string>& non_physical_effects();
+
+// Why a record cannot reveal an effect ("" if it can): a rule per catalogue effect (docs).
+std::string unjudgeable_reason(const std::string& effect, const MeasurementFile& data, const Segmentation& seg);
+
+struct EffectTrial {
+  std::string effect;
+  bool judged = true;
+  std::string reason;       // why not judged, or why the fit failed
+  bool failed = false;
+  bool fitted = false;      // false: failed, or not judged and not fitted (DiagnosisOptions::fit_unjudged)
+  CalibrationResult fit;
+  double delta_bic = 0.0;   // fit.bic - baseline BIC (negative: better)
+};
+
+struct LadderStep {
+  std::vector<std::string> effects;
+  CalibrationResult fit;
+};
+
+struct Diagnosis {
+  std::string law;
+  CalibrationResult baseline;
+  std::vector<CovariateScore> covariates;  // best first
+  std::vector<EffectTrial> ranking;        // judged by BIC, best first; then the ones not judged
+  std::vector<LadderStep> ladder;          // first: the baseline
+  std::vector<std::string> warnings;
+  bool confident = true;                   // false: short record or effects that cannot be judged
+  double wall_ms = 0.0;
+};
+
+Diagnosis diagnose(const MeasurementFile& data, const Segmentation& seg, const DiagnosisOptions& options);
+
+// The JSON of the issue: data, base_law, baseline, segments, covariates, ranking, ladder, final,
+// plus warnings, confident, worst.
+nlohmann::json to_json(const Diagnosis& d, const std::string& data_file);
+std::string format_report(const Diagnosis& d);
+
+// Report files for scripts/plot_diagnosis.py: <dir>/aligned.csv (per measured row: stage, cycle,
+// quadrant, shear displacement, the measurement and each ladder step's aligned model).
+void write_report_data(const Diagnosis& d, const MeasurementFile& data, const std::string& dir);
+
+}  // namespace rockdem

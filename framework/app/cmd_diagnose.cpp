@@ -1,0 +1,121 @@
+// `rockdem diagnose --data FILE.csv --law LAW [--json OUT.json] [--report DIR] [--effects a,b]
+// [--case CASE.toml] [--fix p=v] [--set p=v] [--threads N]`: calibrates the base law, says where
+// it fails, which covariates the residual follows, which catalogue effect helps most (BIC) and
+// climbs the ladder of effects (framework/analysis/diagnosis.hpp). --report writes the aligned
+// records and the figures through scripts/plot_diagnosis.py, run by Debian's /usr/bin/python3
+// (which has matplotlib; the first python3 on PATH may be a virtual environment without it).
+#include <spawn.h>
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+
+#include "framework/analysis/diagnosis.hpp"
+#include "framework/app/command.hpp"
+#include "framework/core/error.hpp"
+#include "models/joint_laws/joint_law.hpp"
+
+extern char** environ;
+
+namespace rockdem {
+namespace {
+
+namespace fs = std::filesystem;
+
+// $ROCKDEM_PLOT_DIAGNOSIS, else scripts/plot_diagnosis.py in a parent folder of the binary.
+fs::path diagnosis_script() {
+  if (const char* env = std::getenv("ROCKDEM_PLOT_DIAGNOSIS"); env && *env) return env;
+  std::error_code ec;
+  for (fs::path dir = fs::read_symlink("/proc/self/exe", ec).parent_path(); !ec && !dir.empty(); dir = dir.parent_path()) {
+    if (fs::exists(dir / "scripts" / "plot_diagnosis.py")) return dir / "scripts" / "plot_diagnosis.py";
+    if (dir == dir.root_path()) break;
+  }
+  return fs::current_path() / "scripts" / "plot_diagnosis.py";
+}
+
+const CommandRegistrar reg{Command{
+    "diagnose", "calibrate a law, localise and explain its misfit, rank the catalogue effects by BIC and add them while it falls",
+    false, [](CLI::App& sub) {
+      auto data = std::make_shared<std::string>();
+      auto in = std::make_shared<CalibrationInputs>();
+      auto try_effects = std::make_shared<std::string>();
+      auto json = std::make_shared<std::string>();
+      auto report = std::make_shared<std::string>();
+      auto quiet = std::make_shared<bool>(false);
+      auto opt = std::make_shared<DiagnosisOptions>();
+      sub.add_option("--data", *data, "measured record (measurement CSV); required");
+      sub.add_option("--law", in->law, "base joint law (rockdem laws); required");
+      sub.add_option("--effects", *try_effects, "effects to try, a,b (default: every physical effect registered)");
+      sub.add_option("--case", in->case_file, "laboratory-test case: its stages, paths and starting parameters");
+      sub.add_option("--fix", in->fix, "fix a base-law parameter: p=VALUE with its unit")->take_all();
+      sub.add_option("--set", in->set, "set a parameter that is not fitted, e.g. dilation=reversible")->take_all();
+      sub.add_option("--json", *json, "write the diagnosis as JSON");
+      sub.add_option("--report", *report, "write figures and the aligned records into this folder");
+      sub.add_option("--threads", opt->threads, "threads (effects fitted in parallel)")->check(CLI::Range(1, 64))->capture_default_str();
+      sub.add_flag("--fit-unjudged", opt->fit_unjudged,
+                   "fit also the effects this record cannot reveal (reported, kept out of the ladder)");
+      sub.add_flag("--quiet", *quiet, "print nothing but errors");
+      return [=]() -> int {
+        if (data->empty()) throw InputError("rockdem diagnose: --data MEASURED.csv is required");
+        if (in->law.empty()) {
+          throw InputError("rockdem diagnose: --law LAW is required; valid laws: " + JointLawRegistry::instance().names_joined());
+        }
+        DiagnosisOptions o = *opt;
+        const MeasurementFile d = read_measurement_csv(*data);
+        std::vector<std::string> notes;
+        apply_inputs(*data, d, *in, o.base, notes);
+        CalibrationInputs list;
+        list.law = in->law;
+        list.effects = *try_effects;
+        CalibrationOptions tried;
+        apply_inputs(*data, d, list, tried, notes);
+        o.effects = tried.effects;
+        const Segmentation seg = segment(d, o.base.compare.segmentation);
+        Diagnosis dg;
+        try {
+          dg = diagnose(d, seg, o);
+        } catch (const InputError& e) {
+          throw InputError(*data + ": " + e.what());
+        }
+        nlohmann::json j = to_json(dg, *data);
+        j["notes"] = notes;
+        auto write_json = [&](const std::string& path) {
+          std::ofstream out(path);
+          if (!out) throw InputError(path + ": cannot open for writing");
+          out << j.dump(2) << '\n';
+          if (!out) throw InputError(path + ": write failed");
+        };
+        if (!json->empty()) write_json(*json);
+        if (!*quiet) {
+          std::printf("diagnose: %s (%zu rows, %zu stage(s)), base law %s, %.1f s\n", data->c_str(), d.rows.size(),
+                      seg.stages.size(), in->law.c_str(), dg.wall_ms / 1e3);
+          for (const auto& n : notes) std::printf("note: %s\n", n.c_str());
+          std::printf("%s", format_report(dg).c_str());
+        }
+        if (!report->empty()) {
+          write_report_data(dg, d, *report);
+          const std::string jpath = (fs::path(*report) / "diagnosis.json").string();
+          write_json(jpath);
+          const std::string script = diagnosis_script().string();
+          std::vector<std::string> args{"/usr/bin/python3", script, jpath, "--out", *report};
+          std::vector<char*> argv;
+          for (auto& a : args) argv.push_back(a.data());
+          argv.push_back(nullptr);
+          pid_t pid = 0;
+          int status = 0;
+          if (posix_spawn(&pid, argv[0], nullptr, nullptr, argv.data(), environ) != 0 || waitpid(pid, &status, 0) < 0 ||
+              !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+            throw std::runtime_error("--report: " + script + " failed (Debian's /usr/bin/python3 with python3-matplotlib; "
+                                     "ROCKDEM_PLOT_DIAGNOSIS names another copy)");
+          }
+          if (!*quiet) std::printf("report: %s\n", report->c_str());
+        }
+        if (!*quiet && !json->empty()) std::printf("json: %s\n", json->c_str());
+        return 0;
+      };
+    }}};
+
+}  // namespace
+}  // namespace rockdem
