@@ -544,7 +544,19 @@ CalibrationResult calibrate(const MeasurementFile& data, const Segmentation& seg
     if (slots[i].free) free.push_back(i);
   std::vector<ElementStage> stages = options.stages.empty() ? stages_from_data(data, seg) : options.stages;
   const double fine = options.element.max_step;
-  const double coarse = std::max(options.fit_step, fine);
+  // A long path (40 dynamic cycles: 2 m of travel) at the fitting step would cost 40 000
+  // increments a run; the fitting step grows so that a run has at most kMaxFitIncrements.
+  constexpr double kMaxFitIncrements = 20000.0;
+  double travel = 0.0;
+  for (const auto& st : stages) {
+    if (st.path.kind == ShearPath::Kind::table) {
+      for (std::size_t i = 1; i < st.path.disp.size(); ++i) travel += std::abs(st.path.disp[i] - st.path.disp[i - 1]);
+    } else {
+      const double per_cycle = (st.path.one_sided ? 2.0 : 4.0) * st.path.amplitude;
+      travel += per_cycle * st.path.count;
+    }
+  }
+  const double coarse = std::max({options.fit_step, fine, travel / kMaxFitIncrements});
   Evaluator ev(data, seg, options, slots, free, stages);
   const std::size_t kk = free.size();
   std::vector<double> x(kk);
@@ -640,9 +652,9 @@ CalibrationResult calibrate(const MeasurementFile& data, const Segmentation& seg
       return std::abs(cc.combined_nrmse - cf.combined_nrmse) > 0.01 * cf.combined_nrmse;
     };
     if (coarse > fine && summary.termination_type != ceres::FAILURE && (options.polish || steps_disagree())) {
-      const ceres::Solver::Summary polish = solve(fine, std::max(3, options.max_iterations / 4));
-      polished = true;
-      if (polish.termination_type == ceres::FAILURE) summary = polish;
+      const ceres::Solver::Summary polish = solve(fine, options.polish ? std::max(3, options.max_iterations / 4) : 4);
+      polished = polish.termination_type != ceres::FAILURE;
+      if (!polished) res.warnings.push_back("the polish at the fine step failed (" + polish.message + "); the fitting step's optimum is kept");
     }
     switch (summary.termination_type) {
       case ceres::CONVERGENCE: res.status = "converged"; res.converged = true; break;

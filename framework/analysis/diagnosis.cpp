@@ -312,7 +312,12 @@ Diagnosis diagnose(const MeasurementFile& data, const Segmentation& seg, const D
       }
       count_parameters(t.fit, law_free.size(), {t.effect});
       t.delta_bic = t.fit.bic - d.baseline.bic;
-      t.fitted = true;
+      t.fitted = t.fit.status != "failed" || t.fit.rss < d.baseline.rss;
+      if (!t.fitted) {
+        t.failed = true;
+        t.judged = false;
+        t.reason = "fit failed: " + (t.fit.warnings.empty() ? t.fit.status : t.fit.warnings.front());
+      }
     } catch (const std::exception& e) {
       t.failed = true;
       t.judged = false;

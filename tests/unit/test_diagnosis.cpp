@@ -54,7 +54,9 @@ DiagnosisOptions options(const std::vector<std::string>& effects) {
   o.base.law_values["kn"] = q("40 GPa/m");  // fixed by default: measured in a normal loading test
   o.base.element.max_step = 1.25e-5;
   o.base.element.length = 0.2;
-  o.base.fit_step = 2.5e-5;
+  // The fitting step equal to the record's: MC with monotonic dilation + dilation_recovery changes by
+  // more than the 1 % at a coarser step (the reversal transient), which is not what this tests.
+  o.base.fit_step = 1.25e-5;
   o.effects = effects;
   return o;
 }
