@@ -85,7 +85,7 @@ effects = ["strength_reductoin"]
 $params
 $stage
 CASE
-check unknown_effect "unknown_effect.toml:3" "unknown effect 'strength_reductoin'" "valid names: strength_reduction"
+check unknown_effect "unknown_effect.toml:3" "unknown effect 'strength_reductoin'" "valid names:" "strength_reduction"
 
 cat >"$tmp/effect_range.toml" <<CASE
 [joint]
