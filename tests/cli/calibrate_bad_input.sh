@@ -13,29 +13,8 @@ trap 'rm -rf "$tmp"' EXIT
 fail=0
 header="time_s,stage,normal_stress_MPa,shear_disp_mm,shear_stress_MPa,normal_disp_mm"
 
-# expect NAME CODE SUBCOMMAND ARGS... -- SUBSTRINGS...: wants exit CODE and every substring.
-expect() {
-  local name=$1 want_code=$2
-  shift 2
-  local args=()
-  while [ "$1" != "--" ]; do args+=("$1"); shift; done
-  shift
-  local out code
-  out=$("$bin" "${args[@]}" 2>&1)
-  code=$?
-  if [ "$code" -ne "$want_code" ]; then
-    echo "FAIL $name: exit $code, wanted $want_code: $out"
-    fail=1
-    return
-  fi
-  for want in "$@"; do
-    if ! grep -qF -- "$want" <<<"$out"; then
-      echo "FAIL $name: output lacks '$want': $out"
-      fail=1
-    fi
-  done
-  echo "ok   $name: $(head -c 300 <<<"$out" | tr '\n' ' ')"
-}
+# shellcheck source=lib/expect.sh
+source "$(dirname "$0")/lib/expect.sh"
 
 twin="$src/cases/direct_shear/twins/test09.csv"
 expect no_data 2 calibrate --law mohr_coulomb -- "--data MEASURED.csv is required"
