@@ -147,7 +147,9 @@ TEST(ElementDriver, SinusoidAndFilePaths) {
   }
 }
 
-TEST(ElementDriver, AFull40mmPseudostaticCycleAt001mmRunsInMilliseconds) {
+// A full 40 mm cycle at 0.01 mm: 8,001 rows for every law. Its time is recorded as a test property
+// and in docs/performance.md, not asserted (timings belong to benchmarks on a shared machine).
+TEST(ElementDriver, AFull40mmPseudostaticCycleAt001mmRunsThroughForEveryLaw) {
   for (const auto& [law, params] : std::vector<std::pair<const char*, RawValues>>{
            {"mohr_coulomb", mc_report()}, {"barton_bandis", bb_report()}, {"continuously_yielding", cy_report()}}) {
     auto m = model(law, params);
@@ -156,7 +158,7 @@ TEST(ElementDriver, AFull40mmPseudostaticCycleAt001mmRunsInMilliseconds) {
     const auto f = d.run({cnl(3e6, ShearPath::cycles(0.02, 1, 4.2e-5))});
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     EXPECT_EQ(f.rows.size(), 8001u);
-    EXPECT_LT(ms, 100.0) << law;  // measured figures are in docs/performance.md
+    EXPECT_EQ(d.unconverged_steps(), 0) << law;
     RecordProperty(std::string(law) + "_ms", std::to_string(ms));
   }
 }
