@@ -4,10 +4,6 @@
 // prints the error table and the worst segments in words, writes the JSON and, with --plot, the
 // two-panel figure through scripts/plot_compare.py (Debian's /usr/bin/python3, which has
 // matplotlib; the first python3 on PATH may be a virtual environment without it).
-#include <spawn.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -16,50 +12,15 @@
 
 #include "framework/analysis/compare.hpp"
 #include "framework/app/command.hpp"
+#include "framework/app/plot_scripts.hpp"
 #include "framework/core/error.hpp"
 #include "framework/io/lab_test.hpp"
 #include "framework/io/measurement_csv.hpp"
-
-extern char** environ;
 
 namespace rockdem {
 namespace {
 
 namespace fs = std::filesystem;
-
-// The plot script: $ROCKDEM_PLOT_COMPARE, else scripts/ next to the build folder holding this
-// binary (build/rockdem -> scripts/), else scripts/ under the current folder.
-fs::path find_plot_script() {
-  if (const char* env = std::getenv("ROCKDEM_PLOT_COMPARE"); env && *env) return env;
-  std::error_code ec;
-  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  std::vector<fs::path> tried;
-  if (!ec) {
-    for (fs::path dir = exe.parent_path(); !dir.empty(); dir = dir.parent_path()) {
-      tried.push_back(dir / "scripts" / "plot_compare.py");
-      if (fs::exists(tried.back())) return tried.back();
-      if (dir == dir.root_path()) break;
-    }
-  }
-  tried.push_back(fs::current_path() / "scripts" / "plot_compare.py");
-  if (fs::exists(tried.back())) return tried.back();
-  std::string where;
-  for (const auto& t : tried) where += "\n  " + t.string();
-  throw std::runtime_error("--plot: scripts/plot_compare.py not found (set ROCKDEM_PLOT_COMPARE); looked in:" + where);
-}
-
-int run_python(const std::vector<std::string>& args) {
-  std::vector<char*> argv;
-  for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-  argv.push_back(nullptr);
-  pid_t pid = 0;
-  if (posix_spawn(&pid, argv[0], nullptr, nullptr, argv.data(), environ) != 0) {
-    throw std::runtime_error("--plot: cannot start " + args[0] + " (Debian's python3 with python3-matplotlib)");
-  }
-  int status = 0;
-  if (waitpid(pid, &status, 0) < 0) throw std::runtime_error("--plot: lost the plot process");
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 1;
-}
 
 std::string meta(const MeasurementFile& f, const std::string& key) {
   for (const auto& [k, v] : f.metadata)
@@ -165,7 +126,9 @@ const CommandRegistrar reg{Command{
         if (!plot->empty()) {
           fs::create_directories(*plot);
           const fs::path png = fs::path(*plot) / (fs::path(model_name).stem().string() + ".png");
-          const int rc = run_python({"/usr/bin/python3", find_plot_script().string(), *data, model_csv, "-o", png.string()});
+          const int rc = run_debian_python(
+              {find_plot_script("plot_compare.py", "ROCKDEM_PLOT_COMPARE", "--plot").string(), *data, model_csv, "-o", png.string()},
+              "--plot");
           if (rc != 0) throw std::runtime_error("--plot: plot_compare.py failed (exit " + std::to_string(rc) + ")");
           if (!*quiet) std::printf("figure: %s\n", png.c_str());
         }

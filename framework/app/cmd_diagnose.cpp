@@ -4,8 +4,6 @@
 // climbs the ladder of effects (framework/analysis/diagnosis.hpp). --report writes the aligned
 // records and the figures through scripts/plot_diagnosis.py, run by Debian's /usr/bin/python3
 // (which has matplotlib; the first python3 on PATH may be a virtual environment without it).
-#include <spawn.h>
-#include <sys/wait.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -14,26 +12,14 @@
 
 #include "framework/analysis/diagnosis.hpp"
 #include "framework/app/command.hpp"
+#include "framework/app/plot_scripts.hpp"
 #include "framework/core/error.hpp"
 #include "models/joint_laws/joint_law.hpp"
-
-extern char** environ;
 
 namespace rockdem {
 namespace {
 
 namespace fs = std::filesystem;
-
-// $ROCKDEM_PLOT_DIAGNOSIS, else scripts/plot_diagnosis.py in a parent folder of the binary.
-fs::path diagnosis_script() {
-  if (const char* env = std::getenv("ROCKDEM_PLOT_DIAGNOSIS"); env && *env) return env;
-  std::error_code ec;
-  for (fs::path dir = fs::read_symlink("/proc/self/exe", ec).parent_path(); !ec && !dir.empty(); dir = dir.parent_path()) {
-    if (fs::exists(dir / "scripts" / "plot_diagnosis.py")) return dir / "scripts" / "plot_diagnosis.py";
-    if (dir == dir.root_path()) break;
-  }
-  return fs::current_path() / "scripts" / "plot_diagnosis.py";
-}
 
 const CommandRegistrar reg{Command{
     "diagnose", "calibrate a law, localise and explain its misfit, rank the catalogue effects by BIC and add them while it falls",
@@ -98,15 +84,8 @@ const CommandRegistrar reg{Command{
           write_report_data(dg, d, *report);
           const std::string jpath = (fs::path(*report) / "diagnosis.json").string();
           write_json(jpath);
-          const std::string script = diagnosis_script().string();
-          std::vector<std::string> args{"/usr/bin/python3", script, jpath, "--out", *report};
-          std::vector<char*> argv;
-          for (auto& a : args) argv.push_back(a.data());
-          argv.push_back(nullptr);
-          pid_t pid = 0;
-          int status = 0;
-          if (posix_spawn(&pid, argv[0], nullptr, nullptr, argv.data(), environ) != 0 || waitpid(pid, &status, 0) < 0 ||
-              !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+          const std::string script = find_plot_script("plot_diagnosis.py", "ROCKDEM_PLOT_DIAGNOSIS", "--report").string();
+          if (run_debian_python({script, jpath, "--out", *report}, "--report") != 0) {
             throw std::runtime_error("--report: " + script + " failed (Debian's /usr/bin/python3 with python3-matplotlib; "
                                      "ROCKDEM_PLOT_DIAGNOSIS names another copy)");
           }

@@ -1,0 +1,48 @@
+#include "framework/app/plot_scripts.hpp"
+
+#include <spawn.h>
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <stdexcept>
+
+extern char** environ;
+
+namespace rockdem {
+
+namespace fs = std::filesystem;
+
+fs::path find_plot_script(const std::string& name, const char* env_var, const std::string& option) {
+  if (const char* env = std::getenv(env_var); env && *env) return env;
+  std::vector<fs::path> tried;
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (!ec) {
+    for (fs::path dir = exe.parent_path(); !dir.empty(); dir = dir.parent_path()) {
+      tried.push_back(dir / "scripts" / name);
+      if (fs::exists(tried.back())) return tried.back();
+      if (dir == dir.root_path()) break;
+    }
+  }
+  tried.push_back(fs::current_path() / "scripts" / name);
+  if (fs::exists(tried.back())) return tried.back();
+  std::string where;
+  for (const auto& t : tried) where += "\n  " + t.string();
+  throw std::runtime_error(option + ": scripts/" + name + " not found (set " + env_var + "); looked in:" + where);
+}
+
+int run_debian_python(const std::vector<std::string>& args, const std::string& option) {
+  std::vector<std::string> all{"/usr/bin/python3"};
+  all.insert(all.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (auto& a : all) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  pid_t pid = 0;
+  if (posix_spawn(&pid, argv[0], nullptr, nullptr, argv.data(), environ) != 0)
+    throw std::runtime_error(option + ": cannot start /usr/bin/python3 (Debian's python3 with python3-matplotlib)");
+  int status = 0;
+  if (waitpid(pid, &status, 0) < 0) throw std::runtime_error(option + ": lost the plot process");
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 1;
+}
+
+}  // namespace rockdem
