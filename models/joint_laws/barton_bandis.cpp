@@ -249,11 +249,7 @@ void BartonBandis::update(const Params& p, State& s, const JointKinematics& k, J
     ddil = rate * travel;
     return cl.sigma(v_tr + ddil);
   };
-  if (rate == 0.0) {
-    step(sigma_tr);  // no dilation: the trial stress is final
-  } else {
-    law_support::consistent_sigma(sigma_tr, s.sigma_n > 0.0 ? s.sigma_n : sigma_tr, step);
-  }
+  law_support::solve_increment(rate, sigma_tr, s.sigma_n, step);
 
   // No tensile strength: open if the closure after the increment's dilation is negative (the
   // shear increment then acted on no contact and is discarded).

@@ -212,11 +212,7 @@ void ContinuouslyYielding::update(const Params& p, State& s, const JointKinemati
     ddil = rate * (up - s.plastic_slip);
     return nr.add(sigma_tr, ddil);
   };
-  if (rate == 0.0) {
-    step(sigma_tr);  // no dilation: the trial stress is final
-  } else {
-    law_support::consistent_sigma(sigma_tr, s.sigma_n > 0.0 ? s.sigma_n : sigma_tr, step);
-  }
+  law_support::solve_increment(rate, sigma_tr, s.sigma_n, step);
 
   // No tensile strength: the joint opens if the stress after the increment's dilation is tensile
   // (the shear increment then acted on no contact and is discarded).

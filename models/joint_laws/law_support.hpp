@@ -157,4 +157,16 @@ double consistent_sigma(double sigma_trial, double guess, Step&& step) {
   return sigma_trial;
 }
 
+// One increment's normal stress for the three laws: the trial stress when the increment does not
+// dilate (rate 0), else the consistent one started from the previous normal stress when the joint
+// was closed. Same contract as consistent_sigma: the last call made was step(the answer).
+template <class Step>
+void solve_increment(double rate, double sigma_trial, double previous_sigma, Step&& step) {
+  if (rate == 0.0) {
+    step(sigma_trial);  // no dilation: the trial stress is final
+  } else {
+    consistent_sigma(sigma_trial, previous_sigma > 0.0 ? previous_sigma : sigma_trial, step);
+  }
+}
+
 }  // namespace rockdem::law_support

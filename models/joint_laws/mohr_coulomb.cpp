@@ -110,11 +110,7 @@ void MohrCoulomb::update(const Params& p, State& s, const JointKinematics& k, Jo
     ddil = rate * std::abs(dus_p);            // eq. 3-3: psi acts only on plastic slip
     return nr.add(sigma_tr, ddil);
   };
-  if (rate == 0.0) {
-    step(sigma_tr);  // no dilation: the trial stress is final
-  } else {
-    law_support::consistent_sigma(sigma_tr, s.sigma_n > 0.0 ? s.sigma_n : sigma_tr, step);
-  }
+  law_support::solve_increment(rate, sigma_tr, s.sigma_n, step);
 
   // Tensile failure (report section 3.1) is judged after the increment's dilation, which pushes
   // the surfaces together under constrained normal displacement: sigma_n becomes zero and the
