@@ -7,6 +7,7 @@
 #include <numbers>
 #include <random>
 
+#include "tests/unit/noisy_record.hpp"
 #include "framework/analysis/calibration.hpp"
 #include "framework/core/error.hpp"
 #include "models/joint_laws/joint_law.hpp"
@@ -19,29 +20,10 @@ constexpr double kDeg = std::numbers::pi / 180.0;
 
 RawValue q(const char* text) { return RawValue{std::string(text), "test"}; }
 
-// Two stages (2 and 4 MPa), one-sided 10 mm strokes at 0.042 mm/s; every 4th increment kept, as
-// a measurement samples; Gaussian noise of 5 kPa / 2 um (seeded).
+// The test records: one-sided strokes, increments of 0.025 mm, every 4th kept (noisy_record.hpp).
 MeasurementFile record(const std::string& law, const RawValues& p, unsigned seed, double noise = 1.0) {
   auto model = make_joint_model(law, p, {}, "test");
-  ElementOptions eo;
-  eo.max_step = 2.5e-5;
-  eo.output_every = 4;
-  eo.length = 0.2;
-  ElementDriver d(*model, eo);
-  std::vector<ElementStage> stages(2);
-  for (std::size_t i = 0; i < 2; ++i) {
-    stages[i].normal_stress = 2e6 * static_cast<double>(i + 1);
-    stages[i].path = ShearPath::cycles(0.01, 1, 4.2e-5, true);
-  }
-  MeasurementFile f = d.run(stages);
-  std::mt19937 rng(seed);
-  std::normal_distribution<double> g(0.0, 1.0);
-  for (auto& r : f.rows) {
-    r.shear_stress_MPa += noise * 0.005 * g(rng);
-    r.normal_disp_mm += noise * 0.002 * g(rng);
-  }
-  f.metadata.push_back({"joint_length_m", "0.2"});
-  return f;
+  return testutil::noisy_two_stage_record(*model, 2.5e-5, 4, true, seed, noise);
 }
 
 CalibrationOptions options(const std::string& law) {

@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <random>
 
+#include "tests/unit/noisy_record.hpp"
 #include "framework/analysis/diagnosis.hpp"
 #include "models/joint_laws/joint_law.hpp"
 
@@ -22,29 +23,10 @@ RawValue q(const char* text) { return RawValue{std::string(text), "test"}; }
 const RawValues kMc{{"kn", q("40 GPa/m")},       {"ks", q("12 GPa/m")},        {"friction", q("36 deg")},
                     {"dilation_angle", q("4 deg")}, {"dilation", q("reversible")}};
 
-// Two stages (2 and 4 MPa) of one-sided 10 mm strokes (or full cycles 0 -> +A -> 0 -> -A -> 0),
-// every 8th increment of 0.0125 mm kept; Gaussian noise of 5 kPa / 2 um (seeded).
+// Mohr-Coulomb records, increments of 0.0125 mm, every 8th kept (noisy_record.hpp).
 MeasurementFile record(const RawValues& law, const std::vector<EffectSpec>& effects, bool one_sided, unsigned seed) {
   auto model = make_joint_model("mohr_coulomb", law, effects, "test");
-  ElementOptions eo;
-  eo.max_step = 1.25e-5;
-  eo.output_every = 8;
-  eo.length = 0.2;
-  ElementDriver d(*model, eo);
-  std::vector<ElementStage> stages(2);
-  for (std::size_t i = 0; i < 2; ++i) {
-    stages[i].normal_stress = 2e6 * static_cast<double>(i + 1);
-    stages[i].path = ShearPath::cycles(0.01, 1, 4.2e-5, one_sided);
-  }
-  MeasurementFile f = d.run(stages);
-  std::mt19937 rng(seed);
-  std::normal_distribution<double> g(0.0, 1.0);
-  for (auto& r : f.rows) {
-    r.shear_stress_MPa += 0.005 * g(rng);
-    r.normal_disp_mm += 0.002 * g(rng);
-  }
-  f.metadata.push_back({"joint_length_m", "0.2"});
-  return f;
+  return testutil::noisy_two_stage_record(*model, 1.25e-5, 8, one_sided, seed);
 }
 
 DiagnosisOptions options(const std::vector<std::string>& effects) {

@@ -20,6 +20,7 @@
 #include <random>
 #include <string>
 
+#include "tests/unit/noisy_record.hpp"
 #include "framework/analysis/diagnosis.hpp"
 #include "models/joint_laws/joint_law.hpp"
 
@@ -42,25 +43,7 @@ MeasurementFile hidden_record(double gain, double scale, unsigned seed) {
   const RawValues hidden{{"gain", RawValue{std::to_string(gain) + " rad", "blind"}},
                          {"scale", RawValue{std::to_string(scale) + " m", "blind"}}};
   auto model = make_joint_model("mohr_coulomb", law, {EffectSpec{kPlugin, hidden, "blind"}}, "blind");
-  ElementOptions eo;
-  eo.max_step = 1.25e-5;
-  eo.output_every = 8;
-  eo.length = 0.2;
-  ElementDriver driver(*model, eo);
-  std::vector<ElementStage> stages(2);
-  for (std::size_t i = 0; i < stages.size(); ++i) {
-    stages[i].normal_stress = 2e6 * static_cast<double>(i + 1);
-    stages[i].path = ShearPath::cycles(0.01, 1, 4.2e-5, false);
-  }
-  MeasurementFile f = driver.run(stages);
-  std::mt19937 rng(seed);
-  std::normal_distribution<double> noise(0.0, 1.0);
-  for (auto& r : f.rows) {
-    r.shear_stress_MPa += 0.005 * noise(rng);
-    r.normal_disp_mm += 0.002 * noise(rng);
-  }
-  f.metadata.push_back({"joint_length_m", "0.2"});
-  return f;
+  return testutil::noisy_two_stage_record(*model, 1.25e-5, 8, false, seed);
 }
 
 }  // namespace
