@@ -145,6 +145,13 @@ double parse_quantity(std::string_view text, Dimension want) {
                    std::string(units_for(want)));
 }
 
+std::string round_trip_text(double v) {
+  char buf[64];
+  auto [end, ec] = std::to_chars(buf, buf + sizeof(buf), v);
+  (void)ec;  // 64 characters hold any double
+  return std::string(buf, end);
+}
+
 std::string format_quantity(double v, Dimension d) {
   std::ostringstream os;
   os.precision(6);

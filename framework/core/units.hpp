@@ -37,4 +37,7 @@ double parse_quantity(std::string_view text, Dimension want);
 // Convert an SI value back into the unit a user most likely wrote, for display ("38 deg").
 std::string format_quantity(double value_si, Dimension d);
 
+// The shortest text that reads back as exactly `v` (std::to_chars), for files and metadata.
+std::string round_trip_text(double v);
+
 }  // namespace rockdem

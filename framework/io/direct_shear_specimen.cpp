@@ -4,21 +4,16 @@
 #include "framework/io/direct_shear_specimen.hpp"
 
 #include <algorithm>
-#include <charconv>
 #include <filesystem>
 
 #include "framework/core/error.hpp"
+#include "framework/core/units.hpp"
 
 namespace rockdem {
 namespace {
 
 // A quantity as the case reader wants it: a string with its unit, full precision.
-std::string q(double v, const char* unit) {
-  char buf[64];
-  auto [end, ec] = std::to_chars(buf, buf + sizeof(buf), v);  // shortest text that reads back exactly
-  (void)ec;
-  return std::string(buf, end) + " " + unit;
-}
+std::string q(double v, const char* unit) { return round_trip_text(v) + " " + unit; }
 
 toml::array rectangle(double x0, double y0, double w, double h) {
   return toml::array{q(x0, "m"), q(y0, "m"), q(w, "m"), q(h, "m")};

@@ -1,12 +1,12 @@
 // Reader of laboratory-test case files (see lab_test.hpp) and the element run of one.
 #include "framework/io/lab_test.hpp"
 
-#include <charconv>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
 
 #include "framework/core/error.hpp"
+#include "framework/core/units.hpp"
 #include "framework/io/toml_values.hpp"
 #include "rockdem_version.hpp"
 
@@ -164,13 +164,6 @@ auto located(const std::string& file, const std::string& where, Fn&& fn) {
     if (m.rfind(file, 0) == 0) throw;
     throw InputError(where + ": " + m);
   }
-}
-
-std::string shortest(double v) {
-  char buf[64];
-  auto [end, ec] = std::to_chars(buf, buf + sizeof(buf), v);
-  (void)ec;
-  return std::string(buf, end);
 }
 
 const toml::table* optional_table(const toml::table& root, const std::string& file, const char* key) {
@@ -414,7 +407,7 @@ ElementRun run_element_test(const LabTest& c) {
   ElementDriver driver(*c.model, opt);
   ElementRun run;
   run.record.metadata = {{"specimen", c.specimen},
-                         {"joint_length_m", shortest(c.joint_length)},
+                         {"joint_length_m", round_trip_text(c.joint_length)},
                          {"source", "rockdem"},
                          {"model", "element"},
                          {"rockdem_version", ROCKDEM_VERSION},

@@ -1,12 +1,12 @@
 #include "models/virtual_lab/twin.hpp"
 
 #include <chrono>
-#include <charconv>
 #include <filesystem>
 
 #include <toml++/toml.h>
 
 #include "framework/core/error.hpp"
+#include "framework/core/units.hpp"
 #include "framework/io/lab_test.hpp"
 #include "framework/io/toml_values.hpp"
 #include "rockdem_version.hpp"
@@ -98,13 +98,6 @@ std::vector<Param<TwinSettings>> TwinSettings::spec() {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string shortest(double v) {
-  char buf[64];
-  auto [end, ec] = std::to_chars(buf, buf + sizeof(buf), v);
-  (void)ec;
-  return std::string(buf, end);
-}
 
 }  // namespace
 
@@ -229,14 +222,14 @@ TwinRun run_twin(const TwinCase& c, std::optional<std::uint64_t> seed) {
                r.seed ^ 0x9E3779B97F4A7C15ULL);
   auto& md = r.record.metadata;
   md = {{"specimen", c.specimen},
-        {"joint_length_m", shortest(c.settings.top_length)},
+        {"joint_length_m", round_trip_text(c.settings.top_length)},
         {"source", "synthetic"},
         {"generator", "rockdem virtual-lab (models/virtual_lab: rough profiles, facet friction, wear)"},
         {"note", "synthetic measurement twin made by a physically based model, not a laboratory record"},
         {"rockdem_version", ROCKDEM_VERSION},
         {"case", c.file},
         {"seed", std::to_string(r.seed)},
-        {"profile_jrc", shortest(r.profile_jrc)}};
+        {"profile_jrc", round_trip_text(r.profile_jrc)}};
   for (const auto& p : TwinSettings::spec()) {
     if (p.info.name == "seed") continue;
     std::string value;
@@ -246,11 +239,11 @@ TwinRun run_twin(const TwinCase& c, std::optional<std::uint64_t> seed) {
           if constexpr (std::is_same_v<M, double>) {
             const double v = c.settings.*m;
             if (p.info.dim == Dimension::dimensionless) {
-              value = shortest(v);
+              value = round_trip_text(v);
             } else if (p.info.dim == Dimension::angle) {
-              value = shortest(v * 180.0 / 3.141592653589793) + " deg";
+              value = round_trip_text(v * 180.0 / 3.141592653589793) + " deg";
             } else {
-              value = shortest(v) + " " + std::string(si_unit(p.info.dim));
+              value = round_trip_text(v) + " " + std::string(si_unit(p.info.dim));
             }
           } else if constexpr (std::is_same_v<M, bool>) {
             value = c.settings.*m ? "true" : "false";
