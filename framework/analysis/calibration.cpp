@@ -18,9 +18,9 @@
 #include <Eigen/Dense>
 
 #include "framework/core/error.hpp"
-#include "framework/io/lab_test.hpp"
+#include "framework/lab/lab_case.hpp"
 #include "framework/io/toml_values.hpp"
-#include "models/joint_laws/joint_law.hpp"
+#include "framework/plugin_api/joint_law.hpp"
 
 namespace rockdem {
 namespace {

@@ -24,7 +24,7 @@
 #include "framework/analysis/compare.hpp"
 #include "framework/core/params.hpp"
 #include "framework/io/measurement_csv.hpp"
-#include "framework/mechanics/element_driver.hpp"
+#include "framework/lab/element_driver.hpp"
 
 namespace rockdem {
 

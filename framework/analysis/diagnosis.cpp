@@ -13,7 +13,7 @@
 #include <thread>
 
 #include "framework/core/error.hpp"
-#include "models/joint_laws/joint_law.hpp"
+#include "framework/plugin_api/joint_law.hpp"
 
 namespace rockdem {
 namespace {

@@ -14,7 +14,7 @@
 #include "framework/app/command.hpp"
 #include "framework/app/plot_scripts.hpp"
 #include "framework/core/error.hpp"
-#include "framework/io/lab_test.hpp"
+#include "framework/lab/lab_case.hpp"
 #include "framework/io/measurement_csv.hpp"
 
 namespace rockdem {

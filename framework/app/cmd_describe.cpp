@@ -6,8 +6,8 @@
 
 #include "framework/app/command.hpp"
 #include "framework/core/error.hpp"
-#include "models/joint_laws/joint_law.hpp"
-#include "models/rock/rock_material.hpp"
+#include "framework/plugin_api/joint_law.hpp"
+#include "framework/plugin_api/rock_material.hpp"
 
 namespace rockdem {
 namespace {

@@ -14,7 +14,7 @@
 #include "framework/app/command.hpp"
 #include "framework/app/plot_scripts.hpp"
 #include "framework/core/error.hpp"
-#include "models/joint_laws/joint_law.hpp"
+#include "framework/plugin_api/joint_law.hpp"
 
 namespace rockdem {
 namespace {

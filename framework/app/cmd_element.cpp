@@ -1,5 +1,5 @@
 // `rockdem element CASE.toml [--out FILE.csv]`: drives one joint point through the stages of a
-// laboratory direct-shear test (framework/io/lab_test.hpp: the case file; element_driver.hpp: the
+// laboratory direct-shear test (framework/lab/lab_case.hpp: the case file; element_driver.hpp: the
 // driver) and writes the result in the measurement format.
 #include <cstdio>
 #include <filesystem>
@@ -7,7 +7,7 @@
 
 #include "framework/app/command.hpp"
 #include "framework/core/error.hpp"
-#include "framework/io/lab_test.hpp"
+#include "framework/lab/lab_case.hpp"
 #include "framework/io/measurement_csv.hpp"
 
 namespace rockdem {

@@ -3,8 +3,8 @@
 #include <cstdio>
 
 #include "framework/app/command.hpp"
-#include "models/joint_laws/joint_law.hpp"
-#include "models/rock/rock_material.hpp"
+#include "framework/plugin_api/joint_law.hpp"
+#include "framework/plugin_api/rock_material.hpp"
 
 namespace rockdem {
 namespace {

@@ -1,16 +1,16 @@
 // `rockdem run CASE.toml [--out DIR]`, or `--default` for the built-in direct-shear case. A
-// laboratory-test case file (framework/io/lab_test.hpp) runs as its DEM specimen
-// (framework/io/direct_shear_specimen.hpp).
+// laboratory-test case file (framework/lab/lab_case.hpp) runs as its DEM specimen
+// (framework/lab/direct_shear_specimen.hpp).
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 
 #include "framework/app/command.hpp"
-#include "framework/app/run_case.hpp"
+#include "framework/simulation/run_case.hpp"
 #include "framework/core/error.hpp"
 #include "framework/core/params.hpp"
-#include "framework/io/direct_shear_specimen.hpp"
-#include "framework/io/lab_test.hpp"
+#include "framework/lab/direct_shear_specimen.hpp"
+#include "framework/lab/lab_case.hpp"
 #include "rockdem_default_case.hpp"
 
 namespace rockdem {

@@ -12,7 +12,7 @@
 #include "framework/app/command.hpp"
 #include "framework/core/error.hpp"
 #include "framework/io/measurement_csv.hpp"
-#include "models/virtual_lab/twin.hpp"
+#include "framework/lab/virtual_lab/twin.hpp"
 
 namespace rockdem {
 namespace {

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "framework/boundary/time_function.hpp"
-#include "framework/mechanics/model.hpp"
+#include "framework/model/model.hpp"
 
 namespace rockdem {
 

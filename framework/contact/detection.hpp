@@ -14,7 +14,7 @@
 // stretch. Stress is the joint-law state; force = stress x length. Because lengths are clipped to
 // the real overlap and never derived as force / length, a block edge sliding past a gridpoint of the
 // other block cannot produce the shrinking-length stress spike of the CNWRA report (Figure 4-4).
-#include "framework/mechanics/model.hpp"
+#include "framework/model/model.hpp"
 
 namespace rockdem {
 

@@ -16,8 +16,8 @@
 #include "framework/geometry/polygon.hpp"
 #include "framework/io/toml_values.hpp"
 #include "framework/mechanics/zones.hpp"
-#include "models/joint_laws/joint_law.hpp"
-#include "models/rock/rock_material.hpp"
+#include "framework/plugin_api/joint_law.hpp"
+#include "framework/plugin_api/rock_material.hpp"
 
 namespace rockdem {
 namespace {

@@ -11,8 +11,8 @@
 #include <toml++/toml.h>
 
 #include "framework/boundary/conditions.hpp"
-#include "framework/mechanics/engine.hpp"
-#include "framework/mechanics/model.hpp"
+#include "framework/mechanics/engine_settings.hpp"
+#include "framework/model/model.hpp"
 
 namespace rockdem {
 

@@ -9,7 +9,7 @@
 
 #include "framework/core/error.hpp"
 #include "framework/io/hdf5_util.hpp"
-#include "framework/mechanics/model.hpp"
+#include "framework/model/model.hpp"
 
 namespace rockdem {
 

@@ -23,7 +23,7 @@
 #include <stdexcept>
 
 #include "framework/core/error.hpp"
-#include "framework/mechanics/model.hpp"
+#include "framework/model/model.hpp"
 
 namespace rockdem {
 

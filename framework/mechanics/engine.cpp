@@ -7,7 +7,7 @@
 
 #include "framework/core/error.hpp"
 #include "framework/mechanics/zones.hpp"
-#include "models/rock/rock_material.hpp"
+#include "framework/plugin_api/rock_material.hpp"
 
 namespace rockdem {
 

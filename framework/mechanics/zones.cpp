@@ -4,7 +4,7 @@
 #include <string>
 
 #include "framework/core/error.hpp"
-#include "models/rock/rock_material.hpp"
+#include "framework/plugin_api/rock_material.hpp"
 
 namespace rockdem {
 

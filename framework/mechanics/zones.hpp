@@ -8,7 +8,7 @@
 #include <string>
 
 #include "framework/geometry/mesh.hpp"
-#include "framework/mechanics/model.hpp"
+#include "framework/model/model.hpp"
 
 namespace rockdem {
 

@@ -21,7 +21,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "models/effects/effect.hpp"
+#include "framework/plugin_api/effect.hpp"
 
 namespace rockdem {
 

@@ -9,8 +9,8 @@
 // (Mohr-Coulomb's tensile strength) uses the initial stiffness Kni. Shear strength is untouched.
 #include <cmath>
 
-#include "models/effects/effect.hpp"
-#include "models/joint_laws/law_support.hpp"
+#include "framework/plugin_api/effect.hpp"
+#include "framework/plugin_api/law_support.hpp"
 
 namespace rockdem {
 

@@ -26,7 +26,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "models/effects/effect.hpp"
+#include "framework/plugin_api/effect.hpp"
 
 namespace rockdem {
 

@@ -4,7 +4,7 @@
 // used with distinct-element codes since). For Mohr-Coulomb this is exactly (C + sigma_n tan
 // phi)/SRF; for Barton-Bandis it scales the mobilised strength, for the continuously-yielding law
 // the bounding strength. Dilation is left to the base law.
-#include "models/effects/effect.hpp"
+#include "framework/plugin_api/effect.hpp"
 
 namespace rockdem {
 

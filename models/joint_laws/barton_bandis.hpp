@@ -1,6 +1,6 @@
 #pragma once
 // Barton-Bandis joint (CNWRA report eqs. 3-5..3-7, Barton et al. 1985). See barton_bandis.cpp.
-#include "models/joint_laws/joint_law.hpp"
+#include "framework/plugin_api/joint_law.hpp"
 
 namespace rockdem {
 

@@ -24,7 +24,7 @@
 #include <numbers>
 #include <string>
 
-#include "models/joint_laws/law_support.hpp"
+#include "framework/plugin_api/law_support.hpp"
 
 namespace rockdem {
 

@@ -1,7 +1,7 @@
 #pragma once
 // Continuously-yielding joint (Cundall & Hart 1985; Cundall & Lemos 1990; CNWRA report eqs.
 // 3-8..3-17). See continuously_yielding.cpp.
-#include "models/joint_laws/joint_law.hpp"
+#include "framework/plugin_api/joint_law.hpp"
 
 namespace rockdem {
 

@@ -15,7 +15,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "models/joint_laws/law_support.hpp"
+#include "framework/plugin_api/law_support.hpp"
 
 namespace rockdem {
 

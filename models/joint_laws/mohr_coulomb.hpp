@@ -1,6 +1,6 @@
 #pragma once
 // Mohr-Coulomb joint with UDEC-style dilation (CNWRA report eqs. 3-1..3-4). See mohr_coulomb.cpp.
-#include "models/joint_laws/joint_law.hpp"
+#include "framework/plugin_api/joint_law.hpp"
 
 namespace rockdem {
 

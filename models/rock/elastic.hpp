@@ -1,6 +1,6 @@
 #pragma once
 // elastic: isotropic linear elastic rock matrix, plane strain.
-#include "models/rock/rock_material.hpp"
+#include "framework/plugin_api/rock_material.hpp"
 
 namespace rockdem {
 

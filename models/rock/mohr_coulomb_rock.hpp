@@ -3,7 +3,7 @@
 // non-associated flow (dilation angle), plane strain.
 #include <cstdint>
 
-#include "models/rock/rock_material.hpp"
+#include "framework/plugin_api/rock_material.hpp"
 
 namespace rockdem {
 

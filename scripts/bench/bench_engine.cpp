@@ -42,10 +42,10 @@
 #include "framework/geometry/mesh.hpp"
 #include "framework/geometry/polygon.hpp"
 #include "framework/mechanics/engine.hpp"
-#include "framework/mechanics/model.hpp"
+#include "framework/model/model.hpp"
 #include "framework/mechanics/zones.hpp"
-#include "models/joint_laws/joint_law.hpp"
-#include "models/rock/rock_material.hpp"
+#include "framework/plugin_api/joint_law.hpp"
+#include "framework/plugin_api/rock_material.hpp"
 
 namespace {
 

@@ -14,8 +14,8 @@
 #include <string>
 #include <vector>
 
-#include "framework/mechanics/element_driver.hpp"
-#include "models/joint_laws/joint_law.hpp"
+#include "framework/lab/element_driver.hpp"
+#include "framework/plugin_api/joint_law.hpp"
 
 namespace {
 

@@ -12,7 +12,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "models/effects/effect.hpp"
+#include "framework/plugin_api/effect.hpp"
 
 namespace rockdem::test_plugins {
 

@@ -7,7 +7,7 @@
 #include <memory>
 #include <vector>
 
-#include "framework/mechanics/model.hpp"
+#include "framework/model/model.hpp"
 #include "models/joint_laws/coulomb_slip.hpp"
 
 namespace rockdem::test {

@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "framework/io/measurement_csv.hpp"
-#include "framework/mechanics/element_driver.hpp"
-#include "models/joint_laws/joint_law.hpp"
+#include "framework/lab/element_driver.hpp"
+#include "framework/plugin_api/joint_law.hpp"
 
 namespace rockdem::testutil {
 

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "framework/io/measurement_csv.hpp"
-#include "framework/mechanics/element_driver.hpp"
+#include "framework/lab/element_driver.hpp"
 
 namespace rockdem::testutil {
 

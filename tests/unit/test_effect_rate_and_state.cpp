@@ -10,7 +10,7 @@
 #include <fstream>
 #include <numbers>
 
-#include "framework/io/lab_test.hpp"
+#include "framework/lab/lab_case.hpp"
 #include "tests/unit/effect_test_util.hpp"
 
 using namespace rockdem;

@@ -8,7 +8,7 @@
 #include <vector>
 #include <unistd.h>
 
-#include "framework/io/lab_test.hpp"
+#include "framework/lab/lab_case.hpp"
 #include "models/joint_laws/barton_bandis.hpp"
 #include "models/joint_laws/continuously_yielding.hpp"
 #include "tests/unit/joint_law_test_util.hpp"

@@ -5,8 +5,8 @@
 #include <cmath>
 #include <numbers>
 
-#include "models/virtual_lab/rough_profile.hpp"
-#include "models/virtual_lab/shear_box.hpp"
+#include "framework/lab/virtual_lab/rough_profile.hpp"
+#include "framework/lab/virtual_lab/shear_box.hpp"
 
 using namespace rockdem;
 using namespace rockdem::vlab;

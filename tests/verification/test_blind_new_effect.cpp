@@ -22,7 +22,7 @@
 
 #include "tests/unit/noisy_record.hpp"
 #include "framework/analysis/diagnosis.hpp"
-#include "models/joint_laws/joint_law.hpp"
+#include "framework/plugin_api/joint_law.hpp"
 
 using namespace rockdem;
 

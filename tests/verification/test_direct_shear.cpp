@@ -14,7 +14,7 @@
 #include <iostream>
 #include <numbers>
 
-#include "framework/app/run_case.hpp"
+#include "framework/simulation/run_case.hpp"
 
 using namespace rockdem;
 

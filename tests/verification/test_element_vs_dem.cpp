@@ -11,7 +11,7 @@
 #include <string>
 #include <unistd.h>
 
-#include "framework/app/run_case.hpp"
+#include "framework/simulation/run_case.hpp"
 #include "tests/unit/joint_law_test_util.hpp"
 
 using namespace rockdem;

@@ -13,9 +13,9 @@
 #include <unistd.h>
 
 #include "framework/analysis/compare.hpp"
-#include "framework/app/run_case.hpp"
-#include "framework/io/direct_shear_specimen.hpp"
-#include "framework/io/lab_test.hpp"
+#include "framework/simulation/run_case.hpp"
+#include "framework/lab/direct_shear_specimen.hpp"
+#include "framework/lab/lab_case.hpp"
 
 using namespace rockdem;
 namespace fs = std::filesystem;

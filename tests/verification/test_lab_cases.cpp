@@ -12,8 +12,8 @@
 #include <vector>
 
 #include "framework/core/params.hpp"
-#include "framework/io/direct_shear_specimen.hpp"
-#include "framework/io/lab_test.hpp"
+#include "framework/lab/direct_shear_specimen.hpp"
+#include "framework/lab/lab_case.hpp"
 
 using namespace rockdem;
 

@@ -11,7 +11,7 @@
 #include <unistd.h>
 #include <iostream>
 
-#include "framework/app/run_case.hpp"
+#include "framework/simulation/run_case.hpp"
 
 using namespace rockdem;
 

@@ -11,7 +11,7 @@
 #include <numbers>
 #include <sstream>
 
-#include "framework/app/run_case.hpp"
+#include "framework/simulation/run_case.hpp"
 
 using namespace rockdem;
 

@@ -10,7 +10,7 @@
 #include <cstdio>
 #include <functional>
 
-#include "models/virtual_lab/twin.hpp"
+#include "framework/lab/virtual_lab/twin.hpp"
 
 using namespace rockdem;
 using namespace rockdem::vlab;

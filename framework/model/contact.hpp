@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "framework/core/types.hpp"
-#include "models/joint_laws/joint_law.hpp"
+#include "framework/plugin_api/joint_law.hpp"
 
 namespace rockdem {
 

@@ -1,6 +1,6 @@
 #include <string>
 
-#include "framework/contact/contact.hpp"
+#include "framework/model/contact.hpp"
 #include "framework/core/error.hpp"
 
 namespace rockdem {

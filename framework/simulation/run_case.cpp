@@ -1,7 +1,7 @@
 // Running a DEM case: its stages in order, with histories (HDF5), VTK fields, the
 // measurement-format CSV for direct-shear cases, checkpoints, and progress output. Used by
 // `rockdem run` and by the tests, so that both exercise the same path.
-#include "framework/app/run_case.hpp"
+#include "framework/simulation/run_case.hpp"
 
 #include <chrono>
 #include <cmath>
@@ -12,6 +12,7 @@
 #include "framework/core/error.hpp"
 #include "framework/io/checkpoint.hpp"
 #include "framework/io/vtk_output.hpp"
+#include "framework/mechanics/engine.hpp"
 
 namespace rockdem {
 namespace fs = std::filesystem;

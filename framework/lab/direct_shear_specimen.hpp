@@ -1,6 +1,6 @@
 #pragma once
 // The DEM model of a laboratory direct-shear test: the report's Figure 4-7 specimen (Hsiung et
-// al., CNWRA, section 4) built from a laboratory-test case file (lab_test.hpp). Two deformable
+// al., CNWRA, section 4) built from a laboratory-test case file (lab_case.hpp). Two deformable
 // elastic blocks of the test's rock (Table 4-1): the bottom one fixed, the top one (as long as
 // the joint) loaded by the normal stress on its top face and pushed through frictionless
 // interfaces by two rigid loading blocks, one against each end, that follow the stage's shear path
@@ -14,7 +14,7 @@
 #include <toml++/toml.h>
 
 #include "framework/io/case.hpp"
-#include "framework/io/lab_test.hpp"
+#include "framework/lab/lab_case.hpp"
 
 namespace rockdem {
 

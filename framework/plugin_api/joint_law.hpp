@@ -23,7 +23,7 @@
 #include <type_traits>
 #include <vector>
 
-#include "models/registry.hpp"
+#include "framework/core/registry.hpp"
 
 namespace rockdem {
 
@@ -74,7 +74,7 @@ struct ShearContext {
   }
 };
 
-// Type-erased effect (see models/effects/effect.hpp for the typed form).
+// Type-erased effect (see framework/plugin_api/effect.hpp for the typed form).
 class EffectBase {
  public:
   virtual ~EffectBase() = default;

@@ -1,4 +1,4 @@
-#include "models/virtual_lab/rough_profile.hpp"
+#include "framework/lab/virtual_lab/rough_profile.hpp"
 
 #include <cmath>
 #include <complex>

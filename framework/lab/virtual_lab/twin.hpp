@@ -3,7 +3,7 @@
 // specimen's profile, contact and noise parameters and its stages, and run on a ShearBox into a
 // record in the measurement format labelled `source: synthetic`. Keys:
 //   [virtual_lab]   specimen (text) and the parameters of TwinSettings::spec() (with units)
-//   [[stage]]       the laboratory-test stage keys (framework/io/lab_test.hpp read_stage)
+//   [[stage]]       the laboratory-test stage keys (framework/lab/lab_case.hpp read_stage)
 // Every mistake is an InputError naming file:line and key, what is wrong and what is valid.
 #include <cstdint>
 #include <optional>
@@ -12,8 +12,8 @@
 
 #include "framework/core/params.hpp"
 #include "framework/io/measurement_csv.hpp"
-#include "framework/mechanics/element_driver.hpp"
-#include "models/virtual_lab/shear_box.hpp"
+#include "framework/lab/element_driver.hpp"
+#include "framework/lab/virtual_lab/shear_box.hpp"
 
 namespace rockdem::vlab {
 

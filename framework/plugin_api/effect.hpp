@@ -16,7 +16,7 @@
 // An effect with enabled = false must leave the base law's results identical, bit for bit.
 #include <cstring>
 
-#include "models/joint_laws/joint_law.hpp"
+#include "framework/plugin_api/joint_law.hpp"
 
 namespace rockdem {
 

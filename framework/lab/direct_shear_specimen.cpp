@@ -1,7 +1,7 @@
 // DEM specimen of a laboratory direct-shear test (see direct_shear_specimen.hpp). The case is built
 // as an ordinary case-file table and loaded by the case reader, so it is checked like a hand-written
 // case and can be printed for the user to inspect or modify.
-#include "framework/io/direct_shear_specimen.hpp"
+#include "framework/lab/direct_shear_specimen.hpp"
 
 #include <algorithm>
 #include <filesystem>

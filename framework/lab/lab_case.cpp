@@ -1,5 +1,5 @@
-// Reader of laboratory-test case files (see lab_test.hpp) and the element run of one.
-#include "framework/io/lab_test.hpp"
+// Reader of laboratory-test case files (see lab_case.hpp) and the element run of one.
+#include "framework/lab/lab_case.hpp"
 
 #include <chrono>
 #include <filesystem>

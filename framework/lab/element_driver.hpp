@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "framework/io/measurement_csv.hpp"
-#include "models/joint_laws/joint_law.hpp"
+#include "framework/plugin_api/joint_law.hpp"
 
 namespace rockdem {
 

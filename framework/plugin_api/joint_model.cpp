@@ -1,4 +1,4 @@
-#include "models/joint_laws/joint_law.hpp"
+#include "framework/plugin_api/joint_law.hpp"
 
 namespace rockdem {
 

@@ -5,7 +5,7 @@
 #include <cstring>
 
 #include "framework/core/types.hpp"
-#include "models/registry.hpp"
+#include "framework/core/registry.hpp"
 
 namespace rockdem {
 

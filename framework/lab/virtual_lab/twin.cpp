@@ -1,4 +1,4 @@
-#include "models/virtual_lab/twin.hpp"
+#include "framework/lab/virtual_lab/twin.hpp"
 
 #include <chrono>
 #include <filesystem>
@@ -7,7 +7,7 @@
 
 #include "framework/core/error.hpp"
 #include "framework/core/units.hpp"
-#include "framework/io/lab_test.hpp"
+#include "framework/lab/lab_case.hpp"
 #include "framework/io/toml_values.hpp"
 #include "rockdem_version.hpp"
 

@@ -1,6 +1,6 @@
-#include "framework/mechanics/model.hpp"
+#include "framework/model/model.hpp"
 
-#include "models/rock/rock_material.hpp"
+#include "framework/plugin_api/rock_material.hpp"
 
 namespace rockdem {
 Model::Model() = default;

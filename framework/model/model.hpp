@@ -12,12 +12,12 @@
 #include <string>
 #include <vector>
 
-#include "framework/contact/contact.hpp"
+#include "framework/model/contact.hpp"
 #include "framework/core/types.hpp"
 
 namespace rockdem {
 
-class RockMaterialBase;  // models/rock/rock_material.hpp
+class RockMaterialBase;  // framework/plugin_api/rock_material.hpp
 
 struct GridPoint {
   Vec2 x0 = Vec2::Zero();  // initial position [m]

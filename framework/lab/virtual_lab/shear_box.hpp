@@ -31,8 +31,8 @@
 #include <vector>
 
 #include "framework/io/measurement_csv.hpp"
-#include "framework/mechanics/element_driver.hpp"
-#include "models/virtual_lab/rough_profile.hpp"
+#include "framework/lab/element_driver.hpp"
+#include "framework/lab/virtual_lab/rough_profile.hpp"
 
 namespace rockdem::vlab {
 

@@ -1,4 +1,4 @@
-#include "models/virtual_lab/shear_box.hpp"
+#include "framework/lab/virtual_lab/shear_box.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 #include <string>
 
 #include "framework/core/error.hpp"
-#include "models/virtual_lab/rough_profile.hpp"
+#include "framework/lab/virtual_lab/rough_profile.hpp"
 
 namespace rockdem::vlab {
 

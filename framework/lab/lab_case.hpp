@@ -1,8 +1,8 @@
 #pragma once
 // A laboratory direct-shear test as a case file: the specimen, the joint law with its parameters,
 // and the normal-stress stages with their shear paths. The same file runs as an element test
-// (`rockdem element`: one joint point, framework/mechanics/element_driver.hpp) and as the full DEM
-// specimen (`rockdem run`: framework/io/direct_shear_specimen.hpp). Keys (docs/case-files.md):
+// (`rockdem element`: one joint point, framework/lab/element_driver.hpp) and as the full DEM
+// specimen (`rockdem run`: framework/lab/direct_shear_specimen.hpp). Keys (docs/case-files.md):
 //   title = "..."
 //   [specimen]      name, joint_length; density, bulk, shear (rock matrix, needed by the DEM run)
 //   [element]       step, output_every, frame_stiffness, frame_mass
@@ -19,7 +19,7 @@
 #include <toml++/toml.h>
 
 #include "framework/io/measurement_csv.hpp"
-#include "framework/mechanics/element_driver.hpp"
+#include "framework/lab/element_driver.hpp"
 
 namespace rockdem {
 

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "models/joint_laws/joint_law.hpp"
+#include "framework/plugin_api/joint_law.hpp"
 
 namespace rockdem::law_support {
 

@@ -1,4 +1,4 @@
-#include "framework/mechanics/element_driver.hpp"
+#include "framework/lab/element_driver.hpp"
 
 #include <algorithm>
 #include <cmath>

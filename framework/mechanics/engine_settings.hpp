@@ -1,0 +1,27 @@
+#pragma once
+// The settings of an Engine and of its damping, apart from the engine itself, so that case
+// readers and stage descriptions can hold them without seeing the time-stepping code.
+#include "framework/contact/detection.hpp"
+
+namespace rockdem {
+
+struct Damping {
+  enum class Kind { none, local, rayleigh } kind = Kind::local;
+  double local_alpha = 0.8;  // Cundall's local non-viscous damping coefficient
+  double alpha = 0.0;        // Rayleigh mass-proportional coefficient [1/s]
+  double beta = 0.0;         // Rayleigh stiffness-proportional coefficient [s]
+  // Rayleigh coefficients for a critical-damping fraction `xi` at frequency `f` [Hz], split
+  // evenly between mass and stiffness terms (minimum of the Rayleigh curve at f).
+  static Damping rayleigh(double xi, double f);
+};
+
+struct EngineSettings {
+  double dt_safety = 0.5;       // fraction of the critical time step 2 sqrt(m/k)
+  double fixed_dt = 0.0;        // >0: use this time step as given (an unstable choice is caught as a runaway)
+  double mass_scaling_dt = 0.0; // >0: scale inertial masses so this time step is stable
+  int refresh_interval = 10;    // steps between contact detections
+  DetectionSettings detection;
+  double velocity_limit = 1e3;  // |v| above this is taken as a runaway [m/s]
+};
+
+}  // namespace rockdem
