@@ -1,0 +1,11 @@
+cmake_minimum_required(VERSION 3.22)
+# cmake -P cmake/check_layers.cmake: fails, listing each include that runs up a layer.
+get_filename_component(root "${CMAKE_CURRENT_LIST_DIR}/.." ABSOLUTE)
+include(${CMAKE_CURRENT_LIST_DIR}/Layers.cmake)
+rockdem_check_layers(${root} problems)
+if(problems)
+  string(REPLACE ";" "\n  " text "${problems}")
+  message(FATAL_ERROR "includes that break the layer rule (docs/architecture.md):\n  ${text}")
+endif()
+list(LENGTH ROCKDEM_LAYERS n)
+message(STATUS "layers: ${n}, every include runs downward")
