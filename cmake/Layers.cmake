@@ -30,13 +30,13 @@ set(ROCKDEM_LAYER_parallel_USES mechanics)
 set(ROCKDEM_LAYER_io_DIR framework/io)                  # case files, HDF5, VTK, CSV, checkpoints
 set(ROCKDEM_LAYER_io_USES mechanics)
 set(ROCKDEM_LAYER_lab_DIR framework/lab)                # element driver, lab cases, specimen, virtual lab
-set(ROCKDEM_LAYER_lab_USES io seismic)
+set(ROCKDEM_LAYER_lab_USES io)
 set(ROCKDEM_LAYER_simulation_DIR framework/simulation)  # running a case: stages, recorders, progress
 set(ROCKDEM_LAYER_simulation_USES lab parallel)
 set(ROCKDEM_LAYER_analysis_DIR framework/analysis)      # segmentation, compare, calibrate, diagnose
 set(ROCKDEM_LAYER_analysis_USES lab)
 set(ROCKDEM_LAYER_app_DIR framework/app)                # the rockdem subcommands
-set(ROCKDEM_LAYER_app_USES simulation analysis)
+set(ROCKDEM_LAYER_app_USES simulation analysis seismic)
 set(ROCKDEM_LAYER_models_DIR models)                    # plug-ins: joint laws, effects, rock materials
 set(ROCKDEM_LAYER_models_USES plugin_api)
 

@@ -1,6 +1,6 @@
 // `rockdem virtual-lab CASE.toml [--out FILE.csv] [--seed N]`: generates a synthetic measurement
 // twin of a laboratory direct-shear test with the virtual lab's physically based joint model
-// (models/virtual_lab/, docs/virtual-lab.md) and writes it in the measurement format, labelled
+// (framework/lab/virtual_lab/, docs/virtual-lab.md) and writes it in the measurement format, labelled
 // `source: synthetic`, with its seed and model parameters. Bit for bit reproducible per seed.
 #include <cstdio>
 #include <filesystem>

@@ -1,5 +1,5 @@
 #pragma once
-// Seeded random self-affine joint profiles for the virtual lab (models/virtual_lab/).
+// Seeded random self-affine joint profiles for the virtual lab (framework/lab/virtual_lab/).
 //
 // A profile is heights z(x) on a uniform grid, made by spectral synthesis: a sum of sinusoids
 // with wavenumbers k = 2 pi n / P between the given longest and shortest wavelengths, random

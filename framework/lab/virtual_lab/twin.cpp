@@ -224,6 +224,8 @@ TwinRun run_twin(const TwinCase& c, std::optional<std::uint64_t> seed) {
   md = {{"specimen", c.specimen},
         {"joint_length_m", round_trip_text(c.settings.top_length)},
         {"source", "synthetic"},
+        // The folder named here is the one the twins in cases/direct_shear/twins/ were made from;
+        // kept so that they regenerate byte for byte.
         {"generator", "rockdem virtual-lab (models/virtual_lab: rough profiles, facet friction, wear)"},
         {"note", "synthetic measurement twin made by a physically based model, not a laboratory record"},
         {"rockdem_version", ROCKDEM_VERSION},
