@@ -142,21 +142,17 @@ RunResult run_case(Case& c, const fs::path& out, bool quiet, const std::string& 
     rec.close();
     // The joint record up to here is kept, marked incomplete.
     std::string record;
-    if (c.direct_shear.enabled && !rec.lab().rows.empty()) {
-      const fs::path partial = out / (c.direct_shear.specimen + ".incomplete.csv");
-      write_lab_record(c, rec.lab(), partial, "incomplete: the run stopped (see the message of rockdem run)");
-      record = ", the joint record up to then in " + partial.string();
+    if (DirectShearRecorder* ds = rec.direct_shear()) {
+      const fs::path partial = ds->write_incomplete(out);
+      if (!partial.empty()) record = ", the joint record up to then in " + partial.string();
     }
     throw InstabilityError(std::string(e.what()) + "\n  last good state (step " + std::to_string(c.model.step) +
                            ") written to " + path + " and " + (out / "vtk").string() + record);
   }
   write_checkpoint(c.model, (out / "final_state.h5").string());
   rec.close();
-  fs::path csv;
-  if (c.direct_shear.enabled && !rec.lab().rows.empty()) {
-    csv = out / (c.direct_shear.specimen + ".csv");
-    write_lab_record(c, rec.lab(), csv, "");
-  }
+  DirectShearRecorder* ds = rec.direct_shear();
+  const fs::path csv = ds ? ds->write(out) : fs::path();
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   if (!quiet) {
     std::cout << "done: " << c.model.step << " steps, simulated " << c.model.time << " s in " << human_seconds(wall) << "\n"
@@ -170,7 +166,7 @@ RunResult run_case(Case& c, const fs::path& out, bool quiet, const std::string& 
   }
   RunResult result;
   result.history = std::move(rec.history());
-  result.lab = std::move(rec.lab());
+  if (ds) result.lab = std::move(ds->record());
   result.lab_csv = csv;
   return result;
 }
