@@ -73,8 +73,7 @@ RunResult run_case(Case& c, const fs::path& out, bool quiet, const std::string& 
       if (st.until == StageSpec::Until::duration && st.auto_duration) {
         duration = 0.0;
         for (const auto& bc : engine.conditions())
-          if (bc->active_in(st.name))
-            if (const auto* v = dynamic_cast<const VelocityCondition*>(bc.get())) duration = std::max(duration, v->duration());
+          if (bc->active_in(st.name)) duration = std::max(duration, bc->history_duration());
         if (!(duration > 0.0 && std::isfinite(duration)))
           throw InputError(c.file + ": stage '" + st.name + "' has duration = \"auto\" but no finite velocity history is active in it");
       }
