@@ -14,6 +14,7 @@
 #include "framework/io/vtk_output.hpp"
 #include "framework/mechanics/engine.hpp"
 #include "framework/simulation/recorder.hpp"
+#include "framework/simulation/stage.hpp"
 
 namespace rockdem {
 namespace fs = std::filesystem;
@@ -41,15 +42,8 @@ RunResult run_case(Case& c, const fs::path& out, bool quiet, const std::string& 
     first_stage = static_cast<std::size_t>(it->second);
     if (first_stage == c.stages.size()) throw InputError(restart + ": this checkpoint ends the last stage; nothing left to run");
   }
-  // Joint models in force at each stage: the case's, replaced by a stage's `joints` values from
-  // that stage on (also when a restart begins in the middle of the list).
-  const auto case_joint_models = c.model.contacts.models;
-  auto put_joint_models_in_force = [&](std::size_t stage) {
-    c.model.contacts.models = case_joint_models;
-    for (std::size_t s = 0; s <= stage; ++s)
-      for (const auto& [index, model] : c.stages[s].joint_models) c.model.contacts.models[static_cast<std::size_t>(index)] = model;
-  };
-  if (first_stage < c.stages.size()) put_joint_models_in_force(first_stage);
+  const StageJointModels joints(c);
+  if (first_stage < c.stages.size()) joints.put_in_force(c, first_stage);
   Engine engine(c.model, c.settings);
   for (auto& bc : c.conditions) engine.add_condition(std::move(bc));
   c.conditions.clear();
@@ -65,21 +59,10 @@ RunResult run_case(Case& c, const fs::path& out, bool quiet, const std::string& 
   if (!quiet) std::cout << "rockdem: " << c.title << "\n  case: " << c.file << "\n  output: " << out.string() << "\n";
   try {
     for (std::size_t si = first_stage; si < c.stages.size(); ++si) {
-      const StageSpec& st = c.stages[si];
-      put_joint_models_in_force(si);
-      engine.begin_stage(st.name, st.damping);
+      const StageRunner stage(c, engine, joints, si);
+      const StageSpec& st = stage.spec();
       rec.stage_started(static_cast<int>(si) + 1, st.name);
-      double duration = st.duration;
-      if (st.until == StageSpec::Until::duration && st.auto_duration) {
-        duration = 0.0;
-        for (const auto& bc : engine.conditions())
-          if (bc->active_in(st.name)) duration = std::max(duration, bc->history_duration());
-        if (!(duration > 0.0 && std::isfinite(duration)))
-          throw InputError(c.file + ": stage '" + st.name + "' has duration = \"auto\" but no finite velocity history is active in it");
-      }
-      const long planned = st.until == StageSpec::Until::steps ? st.steps
-                           : st.until == StageSpec::Until::duration ? static_cast<long>(std::ceil(duration / engine.dt()))
-                                                                    : st.max_steps;
+      const long planned = stage.planned_steps();
       const long vtk_every = c.output.vtk_interval > 0 ? c.output.vtk_interval : std::max(100L, planned / 25);
       if (!quiet)
         std::cout << "stage " << si + 1 << "/" << c.stages.size() << " '" << st.name << "': time step " << engine.dt()
@@ -93,20 +76,7 @@ RunResult run_case(Case& c, const fs::path& out, bool quiet, const std::string& 
       auto last_print = std::chrono::steady_clock::now();
       const auto stage_wall0 = last_print;
       long n = 0;
-      for (;;) {
-        bool done = false;
-        switch (st.until) {
-          case StageSpec::Until::steps: done = n >= st.steps; break;
-          case StageSpec::Until::duration: done = engine.stage_time() >= duration - 0.5 * engine.dt(); break;
-          case StageSpec::Until::equilibrium:
-            done = (n >= 100 && engine.unbalanced_ratio() < st.ratio);
-            if (!done && n >= st.max_steps)
-              throw InstabilityError("stage '" + st.name + "' did not reach equilibrium (unbalanced-force ratio " +
-                                     std::to_string(engine.unbalanced_ratio()) + " > " + std::to_string(st.ratio) +
-                                     ") within max_steps = " + std::to_string(st.max_steps));
-            break;
-        }
-        if (done) break;
+      while (!stage.done(n)) {
         const long chunk = 10;
         engine.run_steps(chunk);
         n += chunk;
@@ -118,9 +88,7 @@ RunResult run_case(Case& c, const fs::path& out, bool quiet, const std::string& 
           last_print = now;
           const double el = std::chrono::duration<double>(now - stage_wall0).count();
           const double rate = static_cast<double>(n) / el;
-          double left = NAN;
-          if (st.until == StageSpec::Until::duration) left = (duration - engine.stage_time()) / engine.dt() / rate;
-          if (st.until == StageSpec::Until::steps) left = static_cast<double>(st.steps - n) / rate;
+          const double left = stage.seconds_left(n, rate);
           std::cout << "  step " << c.model.step << "  t = " << std::setprecision(6) << c.model.time << " s  "
                     << std::setprecision(3) << rate << " steps/s  ratio " << engine.unbalanced_ratio()
                     << (std::isfinite(left) ? "  left ~" + human_seconds(left) : std::string()) << "\n"
