@@ -3,6 +3,7 @@
 // `rockdem run` and by the tests, so that both exercise the same path.
 #include "framework/simulation/run_case.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <iomanip>
@@ -20,6 +21,8 @@ namespace rockdem {
 namespace fs = std::filesystem;
 namespace {
 
+using Clock = std::chrono::steady_clock;
+
 std::string human_seconds(double s) {
   std::ostringstream os;
   if (!std::isfinite(s)) return "?";
@@ -29,19 +32,160 @@ std::string human_seconds(double s) {
   return os.str();
 }
 
+// The stage a run begins with: the first, or after a restart the one following the stages its
+// checkpoint completed (the model state is read back from it).
+std::size_t read_restart(Case& c, const std::string& restart) {
+  if (restart.empty()) return 0;
+  const auto extra = read_checkpoint(c.model, restart);
+  const auto it = extra.find("stages_completed");
+  if (it == extra.end() || it->second < 1 || it->second > static_cast<double>(c.stages.size()))
+    throw InputError(restart + ": not a stage checkpoint of this case (valid: the stage_<n>_<name>.h5 files a run of it writes)");
+  const auto first_stage = static_cast<std::size_t>(it->second);
+  if (first_stage == c.stages.size()) throw InputError(restart + ": this checkpoint ends the last stage; nothing left to run");
+  return first_stage;
+}
+
+// Progress output (none when quiet). Every line goes straight to std::cout in the order of the
+// run: a step line leaves the stream's precision set for the lines after it, as it always has.
+class Progress {
+ public:
+  Progress(const Case& c, bool quiet) : c_(c), quiet_(quiet) {}
+
+  void restarted(const std::string& restart, std::size_t first_stage) const {
+    if (!quiet_) std::cout << "restarting from " << restart << " after stage " << first_stage << " (time " << c_.model.time << " s)\n";
+  }
+
+  void run_started(const fs::path& out) {
+    wall0_ = Clock::now();
+    if (!quiet_) std::cout << "rockdem: " << c_.title << "\n  case: " << c_.file << "\n  output: " << out.string() << "\n";
+  }
+
+  void stage_started(const Engine& e, const StageRunner& stage, std::size_t index) const {
+    if (quiet_) return;
+    const StageSpec& st = stage.spec();
+    std::cout << "stage " << index + 1 << "/" << c_.stages.size() << " '" << st.name << "': time step " << e.dt() << " s, "
+              << (st.until == StageSpec::Until::equilibrium ? "until equilibrium" : std::to_string(stage.planned_steps()) + " steps")
+              << ", " << c_.model.contacts.items.size() << " contacts\n";
+    for (const auto& bc : e.conditions())
+      if (bc->active_in(st.name)) std::cout << "  " << bc->describe(c_.model) << "\n";
+  }
+
+  // The stage's steps begin now (its rate is measured from here).
+  void stepping_started() { stage_wall0_ = last_print_ = Clock::now(); }
+
+  // After `n` steps of the stage: a line (step, simulated time, rate, time left) at most every
+  // [output] progress_seconds; true when one was printed.
+  bool steps_done(const Engine& e, const StageRunner& stage, long n) {
+    const auto now = Clock::now();
+    const double since = std::chrono::duration<double>(now - last_print_).count();
+    if (quiet_ || !(since >= c_.output.progress_seconds)) return false;
+    last_print_ = now;
+    const double el = std::chrono::duration<double>(now - stage_wall0_).count();
+    const double rate = static_cast<double>(n) / el;
+    const double left = stage.seconds_left(n, rate);
+    std::cout << "  step " << c_.model.step << "  t = " << std::setprecision(6) << c_.model.time << " s  "
+              << std::setprecision(3) << rate << " steps/s  ratio " << e.unbalanced_ratio()
+              << (std::isfinite(left) ? "  left ~" + human_seconds(left) : std::string()) << "\n"
+              << std::flush;
+    return true;
+  }
+
+  // The summary of a completed run; `csv` is the joint test record, if any.
+  void finished(const fs::path& out, const fs::path& csv) const {
+    const double wall = std::chrono::duration<double>(Clock::now() - wall0_).count();
+    if (quiet_) return;
+    std::cout << "done: " << c_.model.step << " steps, simulated " << c_.model.time << " s in " << human_seconds(wall) << "\n"
+              << "outputs in " << out.string() << ":\n"
+              << "  history.h5        histories (h5py: f['history/time'], f['history/<name>'];"
+                 " plot: /usr/bin/python3 scripts/plot_history.py " << (out / "history.h5").string() << ")\n"
+              << "  vtk/blocks.pvd    blocks and zones for ParaView (File > Open, Apply; colour by stress or displacement)\n"
+              << "  vtk/contacts.pvd  contact points (normal/shear stress, slip state)\n"
+              << "  final_state.h5    checkpoint of the final state\n";
+    if (!csv.empty()) std::cout << "  " << csv.filename().string() << "  joint test record in the measurement format\n";
+  }
+
+ private:
+  const Case& c_;
+  bool quiet_;
+  Clock::time_point wall0_, stage_wall0_, last_print_;
+};
+
+// What the parts of one run share.
+struct Run {
+  Case& c;
+  const fs::path& out;
+  Engine& engine;
+  Recorder& rec;
+  VtkSeries& vtk;
+  Progress& progress;
+};
+
+// The checkpoint a restart continues from (<out>/stage_<n>_<name>.h5).
+void write_stage_checkpoint(const Run& r, std::size_t index) {
+  const StageSpec& st = r.c.stages[index];
+  write_checkpoint(r.c.model, (r.out / ("stage_" + std::to_string(index + 1) + "_" + st.name + ".h5")).string(),
+                   {{"stages_completed", static_cast<double>(index + 1)}});
+}
+
+void run_stage(Run& r, const StageJointModels& joints, std::size_t index) {
+  const StageRunner stage(r.c, r.engine, joints, index);
+  r.rec.stage_started(static_cast<int>(index) + 1, stage.spec().name);
+  const long vtk_every = r.c.output.vtk_interval > 0 ? r.c.output.vtk_interval : std::max(100L, stage.planned_steps() / 25);
+  r.progress.stage_started(r.engine, stage, index);
+  r.vtk.write(r.c.model);
+  r.rec.sample();
+  r.progress.stepping_started();
+  const long chunk = 10;
+  for (long n = 0; !stage.done(n);) {
+    r.engine.run_steps(chunk);
+    n += chunk;
+    if (n % r.c.output.history_interval < chunk) r.rec.sample();
+    if (n % vtk_every < chunk) r.vtk.write(r.c.model);
+    // The history on disk keeps up with what the user has been shown.
+    if (r.progress.steps_done(r.engine, stage, n)) r.rec.flush();
+  }
+  r.rec.sample();
+  r.vtk.write(r.c.model);
+  write_stage_checkpoint(r, index);
+}
+
+// After an instability: writes the last good state (and the joint record so far) and returns
+// the error to throw, naming what was written.
+InstabilityError stopped_unstable(Run& r, const InstabilityError& e) {
+  r.engine.restore(r.engine.last_good());
+  const auto path = (r.out / "last_good_state.h5").string();
+  write_checkpoint(r.c.model, path);
+  r.vtk.write(r.c.model);
+  r.rec.close();
+  // The joint record up to here is kept, marked incomplete.
+  std::string record;
+  if (DirectShearRecorder* ds = r.rec.direct_shear()) {
+    const fs::path partial = ds->write_incomplete(r.out);
+    if (!partial.empty()) record = ", the joint record up to then in " + partial.string();
+  }
+  return InstabilityError(std::string(e.what()) + "\n  last good state (step " + std::to_string(r.c.model.step) +
+                          ") written to " + path + " and " + (r.out / "vtk").string() + record);
+}
+
+// The outputs of a completed run, its summary and its result.
+RunResult finish(Run& r) {
+  write_checkpoint(r.c.model, (r.out / "final_state.h5").string());
+  r.rec.close();
+  DirectShearRecorder* ds = r.rec.direct_shear();
+  const fs::path csv = ds ? ds->write(r.out) : fs::path();
+  r.progress.finished(r.out, csv);
+  RunResult result;
+  result.history = std::move(r.rec.history());
+  if (ds) result.lab = std::move(ds->record());
+  result.lab_csv = csv;
+  return result;
+}
+
 }  // namespace
 
 RunResult run_case(Case& c, const fs::path& out, bool quiet, const std::string& restart) {
   fs::create_directories(out);
-  std::size_t first_stage = 0;
-  if (!restart.empty()) {
-    const auto extra = read_checkpoint(c.model, restart);
-    const auto it = extra.find("stages_completed");
-    if (it == extra.end() || it->second < 1 || it->second > static_cast<double>(c.stages.size()))
-      throw InputError(restart + ": not a stage checkpoint of this case (valid: the stage_<n>_<name>.h5 files a run of it writes)");
-    first_stage = static_cast<std::size_t>(it->second);
-    if (first_stage == c.stages.size()) throw InputError(restart + ": this checkpoint ends the last stage; nothing left to run");
-  }
+  const std::size_t first_stage = read_restart(c, restart);
   const StageJointModels joints(c);
   if (first_stage < c.stages.size()) joints.put_in_force(c, first_stage);
   Engine engine(c.model, c.settings);
@@ -51,92 +195,19 @@ RunResult run_case(Case& c, const fs::path& out, bool quiet, const std::string& 
   Recorder rec(c, engine, out / (restart.empty() ? std::string("history.h5")
                                                  : "history_from_stage_" + std::to_string(first_stage + 1) + ".h5"));
   VtkSeries vtk(out / "vtk");
+  Progress progress(c, quiet);
   if (!restart.empty()) {
     vtk.resume(c.model.time);
-    if (!quiet) std::cout << "restarting from " << restart << " after stage " << first_stage << " (time " << c.model.time << " s)\n";
+    progress.restarted(restart, first_stage);
   }
-  const auto wall0 = std::chrono::steady_clock::now();
-  if (!quiet) std::cout << "rockdem: " << c.title << "\n  case: " << c.file << "\n  output: " << out.string() << "\n";
+  progress.run_started(out);
+  Run r{c, out, engine, rec, vtk, progress};
   try {
-    for (std::size_t si = first_stage; si < c.stages.size(); ++si) {
-      const StageRunner stage(c, engine, joints, si);
-      const StageSpec& st = stage.spec();
-      rec.stage_started(static_cast<int>(si) + 1, st.name);
-      const long planned = stage.planned_steps();
-      const long vtk_every = c.output.vtk_interval > 0 ? c.output.vtk_interval : std::max(100L, planned / 25);
-      if (!quiet)
-        std::cout << "stage " << si + 1 << "/" << c.stages.size() << " '" << st.name << "': time step " << engine.dt()
-                  << " s, " << (st.until == StageSpec::Until::equilibrium ? "until equilibrium" : std::to_string(planned) + " steps")
-                  << ", " << c.model.contacts.items.size() << " contacts\n";
-      if (!quiet)
-        for (const auto& bc : engine.conditions())
-          if (bc->active_in(st.name)) std::cout << "  " << bc->describe(c.model) << "\n";
-      vtk.write(c.model);
-      rec.sample();
-      auto last_print = std::chrono::steady_clock::now();
-      const auto stage_wall0 = last_print;
-      long n = 0;
-      while (!stage.done(n)) {
-        const long chunk = 10;
-        engine.run_steps(chunk);
-        n += chunk;
-        if (n % c.output.history_interval < chunk) rec.sample();
-        if (n % vtk_every < chunk) vtk.write(c.model);
-        const auto now = std::chrono::steady_clock::now();
-        const double since = std::chrono::duration<double>(now - last_print).count();
-        if (!quiet && since >= c.output.progress_seconds) {
-          last_print = now;
-          const double el = std::chrono::duration<double>(now - stage_wall0).count();
-          const double rate = static_cast<double>(n) / el;
-          const double left = stage.seconds_left(n, rate);
-          std::cout << "  step " << c.model.step << "  t = " << std::setprecision(6) << c.model.time << " s  "
-                    << std::setprecision(3) << rate << " steps/s  ratio " << engine.unbalanced_ratio()
-                    << (std::isfinite(left) ? "  left ~" + human_seconds(left) : std::string()) << "\n"
-                    << std::flush;
-          rec.flush();
-        }
-      }
-      rec.sample();
-      vtk.write(c.model);
-      write_checkpoint(c.model, (out / ("stage_" + std::to_string(si + 1) + "_" + st.name + ".h5")).string(),
-                       {{"stages_completed", static_cast<double>(si + 1)}});
-    }
+    for (std::size_t si = first_stage; si < c.stages.size(); ++si) run_stage(r, joints, si);
   } catch (const InstabilityError& e) {
-    engine.restore(engine.last_good());
-    const auto path = (out / "last_good_state.h5").string();
-    write_checkpoint(c.model, path);
-    vtk.write(c.model);
-    rec.close();
-    // The joint record up to here is kept, marked incomplete.
-    std::string record;
-    if (DirectShearRecorder* ds = rec.direct_shear()) {
-      const fs::path partial = ds->write_incomplete(out);
-      if (!partial.empty()) record = ", the joint record up to then in " + partial.string();
-    }
-    throw InstabilityError(std::string(e.what()) + "\n  last good state (step " + std::to_string(c.model.step) +
-                           ") written to " + path + " and " + (out / "vtk").string() + record);
+    throw stopped_unstable(r, e);
   }
-  write_checkpoint(c.model, (out / "final_state.h5").string());
-  rec.close();
-  DirectShearRecorder* ds = rec.direct_shear();
-  const fs::path csv = ds ? ds->write(out) : fs::path();
-  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
-  if (!quiet) {
-    std::cout << "done: " << c.model.step << " steps, simulated " << c.model.time << " s in " << human_seconds(wall) << "\n"
-              << "outputs in " << out.string() << ":\n"
-              << "  history.h5        histories (h5py: f['history/time'], f['history/<name>'];"
-                 " plot: /usr/bin/python3 scripts/plot_history.py " << (out / "history.h5").string() << ")\n"
-              << "  vtk/blocks.pvd    blocks and zones for ParaView (File > Open, Apply; colour by stress or displacement)\n"
-              << "  vtk/contacts.pvd  contact points (normal/shear stress, slip state)\n"
-              << "  final_state.h5    checkpoint of the final state\n";
-    if (!csv.empty()) std::cout << "  " << csv.filename().string() << "  joint test record in the measurement format\n";
-  }
-  RunResult result;
-  result.history = std::move(rec.history());
-  if (ds) result.lab = std::move(ds->record());
-  result.lab_csv = csv;
-  return result;
+  return finish(r);
 }
-
 
 }  // namespace rockdem
