@@ -35,6 +35,9 @@ class BoundaryCondition {
   virtual void setup(Model&) {}
   virtual double forces(Model&, double /*stage_time*/) { return 0.0; }
   virtual void velocities(Model&, double /*stage_time*/) {}
+  // Time after which the condition's prescribed histories are finished (0: none ends). A stage
+  // with duration = "auto" runs as long as the longest of its active conditions'.
+  virtual double history_duration() const { return 0.0; }
   // Stages this condition is active in (empty: all).
   std::vector<std::string> stages;
   bool active_in(const std::string& stage) const;
@@ -64,6 +67,7 @@ class VelocityCondition final : public BoundaryCondition {
   void velocities(Model&, double t) override;
   // Longest finite duration of its velocity histories (0 if none is finite).
   double duration() const;
+  double history_duration() const override { return duration(); }
 
  private:
   FaceSelection sel_;

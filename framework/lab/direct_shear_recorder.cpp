@@ -1,0 +1,95 @@
+#include "framework/lab/direct_shear_recorder.hpp"
+
+#include <algorithm>
+#include <sstream>
+
+#include "framework/core/error.hpp"
+
+namespace rockdem {
+namespace fs = std::filesystem;
+
+DirectShearRecorder::DirectShearRecorder(const Case& c, const Engine& e, History& h) : c_(c), e_(e) {
+  ds_[0] = h.define("joint_shear_stress", "Pa", "loading-block contact force over the nominal joint length");
+  ds_[1] = h.define("joint_shear_displacement", "m", "loading-block displacement in the shear stage");
+  ds_[2] = h.define("joint_normal_displacement", "m", "top-block bottom face minus bottom-block top face, mean vertical displacement");
+}
+
+void DirectShearRecorder::stage_started(const std::string& name) {
+  test_stage_ = 0;
+  const auto& names = c_.direct_shear.shear_stages;
+  const auto it = std::find(names.begin(), names.end(), name);
+  if (it == names.end()) return;
+  test_stage_ = static_cast<int>(it - names.begin()) + 1;
+  const Model& m = c_.model;
+  loader_x0_ = m.blocks[c_.direct_shear.loader].xc.x();
+  normal0_ = normal_disp();
+  // The file's time runs from the start of the first shear stage and never goes back.
+  if (std::isnan(t0_)) t0_ = m.time;
+}
+
+void DirectShearRecorder::sample(History& h) {
+  const Model& m = c_.model;
+  const auto& d = c_.direct_shear;
+  double fx = e_.contact_force_on(d.loader).x();
+  for (int l : d.other_loaders) fx += e_.contact_force_on(l).x();
+  const double tau = -fx / d.joint_length;
+  const double us = m.blocks[d.loader].xc.x() - loader_x0_;
+  const double un = normal_disp() - normal0_;
+  // A joint that dilates beyond the detection distance loses its contacts (points meeting on
+  // the dilated joint are not found) and the specimen collapses: stop, rather than record
+  // something that is no longer the joint law's.
+  if (test_stage_ && un > c_.settings.detection.distance) {
+    std::ostringstream os;
+    os << "the joint has dilated " << un * 1e3 << " mm in test stage " << test_stage_ << " (time " << m.time
+       << " s), more than the contact detection distance (" << c_.settings.detection.distance * 1e3
+       << " mm) within which the specimen keeps its joint contacts; raise [model] detection_tolerance (for a "
+          "laboratory-test case [dem] detection_tolerance, up to 20 mm), or run this law with `rockdem element`";
+    throw InstabilityError(os.str());
+  }
+  h.set(ds_[0], tau);
+  h.set(ds_[1], test_stage_ ? us : 0.0);
+  h.set(ds_[2], test_stage_ ? un : 0.0);
+  if (test_stage_) {
+    MeasurementRow r;
+    r.time_s = m.time - t0_;
+    r.stage = test_stage_;
+    r.normal_stress_MPa = d.normal_stresses[static_cast<std::size_t>(test_stage_ - 1)] / 1e6;
+    r.shear_disp_mm = us * 1e3;
+    r.shear_stress_MPa = tau / 1e6;
+    r.normal_disp_mm = un * 1e3;
+    record_.rows.push_back(r);
+  }
+}
+
+fs::path DirectShearRecorder::write(const fs::path& dir) {
+  return write_record(dir / (c_.direct_shear.specimen + ".csv"), "");
+}
+
+fs::path DirectShearRecorder::write_incomplete(const fs::path& dir) {
+  return write_record(dir / (c_.direct_shear.specimen + ".incomplete.csv"),
+                      "incomplete: the run stopped (see the message of rockdem run)");
+}
+
+double DirectShearRecorder::mean_y(const std::vector<int>& pts) const {
+  double s = 0.0;
+  for (int g : pts) s += c_.model.gp[g].x.y() - c_.model.gp[g].x0.y();
+  return pts.empty() ? 0.0 : s / static_cast<double>(pts.size());
+}
+double DirectShearRecorder::normal_disp() const {
+  return mean_y(c_.direct_shear.top_face) - mean_y(c_.direct_shear.bottom_face);
+}
+
+fs::path DirectShearRecorder::write_record(const fs::path& path, const std::string& status) {
+  if (record_.rows.empty()) return {};
+  record_.metadata = {{"specimen", c_.direct_shear.specimen},
+                      {"joint_length_m", std::to_string(c_.direct_shear.joint_length)},
+                      {"source", "rockdem"},
+                      {"model", "dem"},
+                      {"case", c_.file}};
+  for (const auto& kv : c_.direct_shear.metadata) record_.metadata.push_back(kv);
+  if (!status.empty()) record_.metadata.emplace_back("status", status);
+  write_measurement_csv(path.string(), record_);
+  return path;
+}
+
+}  // namespace rockdem

@@ -1,0 +1,47 @@
+#include "framework/simulation/recorder.hpp"
+
+namespace rockdem {
+
+Recorder::Recorder(const Case& c, const Engine& e, const std::filesystem::path& history_file) : c_(c), e_(e) {
+  stage_id_ = h_.define("stage", "", "index of the stage (1-based)");
+  for (const auto& s : c.histories) h_.define(s.name, s.unit, s.description);
+  // Its columns follow the case's histories.
+  if (c.direct_shear.enabled) direct_shear_.emplace(c, e, h_);
+  h_.open(history_file.string());
+}
+
+void Recorder::stage_started(int index, const std::string& name) {
+  stage_ = index;
+  if (direct_shear_) direct_shear_->stage_started(name);
+}
+
+void Recorder::sample() {
+  const Model& m = c_.model;
+  h_.set(stage_id_, stage_);
+  for (std::size_t i = 0; i < c_.histories.size(); ++i) h_.set(static_cast<int>(i) + 1, value(c_.histories[i]) * c_.histories[i].scale);
+  if (direct_shear_) direct_shear_->sample(h_);
+  h_.commit(m.time, m.step);
+}
+
+double Recorder::value(const HistorySpec& s) const {
+  const Model& m = c_.model;
+  switch (s.quantity) {
+    case HistorySpec::Quantity::contact_force: return e_.contact_force_on(s.block)[s.component];
+    case HistorySpec::Quantity::block_displacement: {
+      const Block& b = m.blocks[s.block];
+      return s.component == 2 ? b.theta : (b.xc - b.xc0)[s.component];
+    }
+    case HistorySpec::Quantity::block_velocity: return m.blocks[s.block].vc[s.component];
+    case HistorySpec::Quantity::face_displacement: {
+      double sum = 0.0;
+      for (int g : s.points) sum += (m.gp[g].x - m.gp[g].x0)[s.component];
+      return s.points.empty() ? 0.0 : sum / static_cast<double>(s.points.size());
+    }
+    case HistorySpec::Quantity::unbalanced_ratio: return e_.unbalanced_ratio();
+    case HistorySpec::Quantity::kinetic_energy: return e_.kinetic_energy();
+    case HistorySpec::Quantity::time_step: return e_.dt();
+  }
+  return 0.0;
+}
+
+}  // namespace rockdem

@@ -1,0 +1,39 @@
+#pragma once
+// Sampling a running case: its named histories (and, for direct-shear cases, the joint
+// measurement's columns) into history.h5, written as the run goes.
+#include <filesystem>
+#include <optional>
+#include <string>
+
+#include "framework/io/case.hpp"
+#include "framework/io/history.hpp"
+#include "framework/lab/direct_shear_recorder.hpp"
+#include "framework/mechanics/engine.hpp"
+
+namespace rockdem {
+
+class Recorder {
+ public:
+  Recorder(const Case& c, const Engine& e, const std::filesystem::path& history_file);
+
+  void stage_started(int index, const std::string& name);
+  void sample();
+
+  void close() { h_.close(); }
+  void flush() { h_.flush(); }
+  History& history() { return h_; }
+  // The direct-shear measurement of a case with [direct_shear], null otherwise.
+  DirectShearRecorder* direct_shear() { return direct_shear_ ? &*direct_shear_ : nullptr; }
+
+ private:
+  double value(const HistorySpec& s) const;
+
+  const Case& c_;
+  const Engine& e_;
+  History h_;
+  int stage_id_ = 0;
+  int stage_ = 0;
+  std::optional<DirectShearRecorder> direct_shear_;
+};
+
+}  // namespace rockdem

@@ -1,0 +1,57 @@
+#include "framework/simulation/stage.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "framework/core/error.hpp"
+
+namespace rockdem {
+
+void StageJointModels::put_in_force(Case& c, std::size_t stage) const {
+  c.model.contacts.models = case_models_;
+  for (std::size_t s = 0; s <= stage; ++s)
+    for (const auto& [index, model] : c.stages[s].joint_models) c.model.contacts.models[static_cast<std::size_t>(index)] = model;
+}
+
+StageRunner::StageRunner(Case& c, Engine& e, const StageJointModels& joints, std::size_t index)
+    : st_(c.stages[index]), e_(e) {
+  joints.put_in_force(c, index);
+  e.begin_stage(st_.name, st_.damping);
+  duration_ = st_.duration;
+  if (st_.until == StageSpec::Until::duration && st_.auto_duration) {
+    duration_ = 0.0;
+    for (const auto& bc : e.conditions())
+      if (bc->active_in(st_.name)) duration_ = std::max(duration_, bc->history_duration());
+    if (!(duration_ > 0.0 && std::isfinite(duration_)))
+      throw InputError(c.file + ": stage '" + st_.name + "' has duration = \"auto\" but no finite velocity history is active in it");
+  }
+  planned_ = st_.until == StageSpec::Until::steps ? st_.steps
+             : st_.until == StageSpec::Until::duration ? static_cast<long>(std::ceil(duration_ / e.dt()))
+                                                       : st_.max_steps;
+}
+
+bool StageRunner::done(long n) const {
+  switch (st_.until) {
+    case StageSpec::Until::steps: return n >= st_.steps;
+    case StageSpec::Until::duration: return e_.stage_time() >= duration_ - 0.5 * e_.dt();
+    case StageSpec::Until::equilibrium: {
+      const bool converged = n >= 100 && e_.unbalanced_ratio() < st_.ratio;
+      if (!converged && n >= st_.max_steps)
+        throw InstabilityError("stage '" + st_.name + "' did not reach equilibrium (unbalanced-force ratio " +
+                               std::to_string(e_.unbalanced_ratio()) + " > " + std::to_string(st_.ratio) +
+                               ") within max_steps = " + std::to_string(st_.max_steps));
+      return converged;
+    }
+  }
+  return false;
+}
+
+double StageRunner::seconds_left(long n, double rate) const {
+  double left = NAN;
+  if (st_.until == StageSpec::Until::duration) left = (duration_ - e_.stage_time()) / e_.dt() / rate;
+  if (st_.until == StageSpec::Until::steps) left = static_cast<double>(st_.steps - n) / rate;
+  return left;
+}
+
+}  // namespace rockdem
