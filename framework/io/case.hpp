@@ -2,7 +2,8 @@
 // A DEM case: the TOML case file turned into a Model, an Engine's settings and boundary
 // conditions, stages, histories and outputs. Every input problem is an InputError that names the
 // file, the line or key, what is wrong and what is valid, raised before any computation.
-// The case-file keys are documented in docs/case-files.md.
+// The case-file keys are documented in docs/case-files.md. The file is read table by table into
+// plain specs (case_reader.hpp, case_spec.hpp), which case_builder.hpp turns into the Case.
 #include <memory>
 #include <optional>
 #include <string>
@@ -12,6 +13,7 @@
 
 #include "framework/boundary/conditions.hpp"
 #include "framework/mechanics/engine_settings.hpp"
+#include "framework/mechanics/history_quantities.hpp"
 #include "framework/model/model.hpp"
 
 namespace rockdem {
@@ -30,21 +32,12 @@ struct StageSpec {
   std::vector<std::pair<int, std::shared_ptr<const JointModel>>> joint_models;
 };
 
-// One named history quantity.
+// One named history: a registered quantity (framework/mechanics/history_quantities.hpp) measured
+// on its target and multiplied by `scale`.
 struct HistorySpec {
   std::string name, unit, description;
-  enum class Quantity {
-    contact_force,     // sum of contact forces on a block, component x or y [N/m]
-    block_displacement,// rigid-block centroid displacement x or y [m], or rotation [rad]
-    block_velocity,    // rigid-block centroid velocity [m/s]
-    face_displacement, // mean displacement of a block face's gridpoints, x or y [m]
-    unbalanced_ratio,
-    kinetic_energy,    // [J/m]
-    time_step,         // [s]
-  } quantity = Quantity::unbalanced_ratio;
-  int block = -1;
-  int component = 0;  // 0 x, 1 y, 2 rotation
-  std::vector<int> points;
+  const HistoryQuantity* quantity = nullptr;
+  HistoryTarget target;
   double scale = 1.0;
 };
 
