@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "framework/io/case.hpp"
+#include "framework/io/case_data.hpp"
 #include "framework/io/case_spec.hpp"
 
 namespace rockdem {

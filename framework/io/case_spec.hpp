@@ -16,7 +16,7 @@
 #include "framework/boundary/condition_kinds.hpp"
 #include "framework/core/params.hpp"
 #include "framework/geometry/polygon.hpp"
-#include "framework/io/case.hpp"
+#include "framework/io/case_data.hpp"
 #include "framework/plugin_api/joint_law.hpp"
 
 namespace rockdem {
