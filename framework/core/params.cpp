@@ -2,6 +2,8 @@
 
 #include <sstream>
 
+#include "framework/core/names.hpp"
+
 namespace rockdem {
 namespace {
 std::string num(double v) {
@@ -103,10 +105,8 @@ void check_known_keys(const RawValues& values, const std::vector<ParamInfo>& inf
     bool known = false;
     for (const auto& i : infos) known = known || i.name == key;
     if (!known) {
-      std::string valid;
-      for (const auto& i : infos) valid += (valid.empty() ? "" : ", ") + i.name;
       throw InputError(raw.where + ": unknown parameter '" + key + "' for " + owner +
-                       "; valid parameters: " + valid);
+                       "; valid parameters: " + join_names(infos, &ParamInfo::name));
     }
   }
 }

@@ -2,91 +2,16 @@
 // A DEM case: the TOML case file turned into a Model, an Engine's settings and boundary
 // conditions, stages, histories and outputs. Every input problem is an InputError that names the
 // file, the line or key, what is wrong and what is valid, raised before any computation.
-// The case-file keys are documented in docs/case-files.md.
-#include <memory>
-#include <optional>
+// The case-file keys are documented in docs/case-files.md. The file is read table by table into
+// plain specs (case_reader.hpp, case_spec.hpp), which case_builder.hpp turns into the Case
+// (case_data.hpp).
 #include <string>
-#include <vector>
 
 #include <toml++/toml.h>
 
-#include "framework/boundary/conditions.hpp"
-#include "framework/mechanics/engine_settings.hpp"
-#include "framework/model/model.hpp"
+#include "framework/io/case_data.hpp"
 
 namespace rockdem {
-
-struct StageSpec {
-  std::string name;
-  Damping damping;
-  enum class Until { equilibrium, duration, steps } until = Until::duration;
-  double duration = 0.0;     // [s]; for `duration`
-  bool auto_duration = false;  // duration = longest active velocity history
-  long steps = 0;
-  double ratio = 1e-5;       // unbalanced-force ratio for `equilibrium`
-  long max_steps = 1000000;  // cap for `equilibrium`
-  // Joint models put in force from this stage on (same law and effects, other parameter values;
-  // the contacts keep their state): (index in ContactStore::models, model).
-  std::vector<std::pair<int, std::shared_ptr<const JointModel>>> joint_models;
-};
-
-// One named history quantity.
-struct HistorySpec {
-  std::string name, unit, description;
-  enum class Quantity {
-    contact_force,     // sum of contact forces on a block, component x or y [N/m]
-    block_displacement,// rigid-block centroid displacement x or y [m], or rotation [rad]
-    block_velocity,    // rigid-block centroid velocity [m/s]
-    face_displacement, // mean displacement of a block face's gridpoints, x or y [m]
-    unbalanced_ratio,
-    kinetic_energy,    // [J/m]
-    time_step,         // [s]
-  } quantity = Quantity::unbalanced_ratio;
-  int block = -1;
-  int component = 0;  // 0 x, 1 y, 2 rotation
-  std::vector<int> points;
-  double scale = 1.0;
-};
-
-// Output in the measurement format for direct-shear cases (docs/measurement-format.md):
-// shear stress = contact force of the loading block over the nominal joint length; shear
-// displacement = loading-block displacement; normal displacement = mean vertical displacement of
-// the top block's bottom gridpoints minus that of the bottom block's top gridpoints.
-// A test of several normal-stress stages lists one shear stage per test stage; each is numbered in
-// the file (1, 2, ...) with its shear and normal displacements measured from that stage's start.
-struct DirectShearSpec {
-  bool enabled = false;
-  std::string specimen;
-  double joint_length = 0.2032;
-  int loader = -1, top = -1, bottom = -1;
-  // Further loading blocks moving with `loader` (e.g. one on each side of the top block, each only
-  // pushing): the shear force is the sum over all of them.
-  std::vector<int> other_loaders;
-  std::vector<int> top_face, bottom_face;
-  std::vector<std::string> shear_stages;  // case stages whose samples are written, in test order
-  std::vector<double> normal_stresses;    // applied on the top face in each, for the file [Pa]
-  std::vector<std::pair<std::string, std::string>> metadata;  // extra '# key: value' lines
-};
-
-struct OutputSpec {
-  long history_interval = 100;  // steps between history samples
-  long vtk_interval = 0;        // steps between VTK frames (0: automatic, about 25 per stage)
-  double progress_seconds = 2.0;
-};
-
-struct Case {
-  std::string file;
-  std::string title;
-  Model model;
-  EngineSettings settings;
-  std::vector<std::unique_ptr<BoundaryCondition>> conditions;
-  std::vector<StageSpec> stages;
-  std::vector<HistorySpec> histories;
-  DirectShearSpec direct_shear;
-  OutputSpec output;
-  std::vector<std::string> block_names;
-  int block_index(const std::string& name, const std::string& where) const;
-};
 
 // Read a case file. `name` is used in messages; `text` (optional) is parsed instead of the file
 // (the built-in default case).

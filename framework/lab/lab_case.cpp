@@ -6,6 +6,7 @@
 #include <fstream>
 
 #include "framework/core/error.hpp"
+#include "framework/core/names.hpp"
 #include "framework/core/units.hpp"
 #include "framework/io/toml_values.hpp"
 #include "rockdem_version.hpp"
@@ -142,11 +143,9 @@ void check_keys(const toml::table& t, const std::string& file, const std::string
                 const std::vector<std::string>& allowed) {
   for (const auto& [k, node] : t) {
     if (std::find(allowed.begin(), allowed.end(), k.str()) != allowed.end()) continue;
-    std::string valid;
-    for (const auto& a : allowed) valid += (valid.empty() ? "" : ", ") + a;
     throw InputError(where_of(node, file, path.empty() ? std::string(k.str()) : path + "." + std::string(k.str())) +
                      ": unknown key '" + std::string(k.str()) + "'" + (path.empty() ? "" : " in [" + path + "]") +
-                     "; valid keys: " + valid);
+                     "; valid keys: " + join_names(allowed));
   }
 }
 

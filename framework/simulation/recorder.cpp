@@ -24,24 +24,7 @@ void Recorder::sample() {
 }
 
 double Recorder::value(const HistorySpec& s) const {
-  const Model& m = c_.model;
-  switch (s.quantity) {
-    case HistorySpec::Quantity::contact_force: return e_.contact_force_on(s.block)[s.component];
-    case HistorySpec::Quantity::block_displacement: {
-      const Block& b = m.blocks[s.block];
-      return s.component == 2 ? b.theta : (b.xc - b.xc0)[s.component];
-    }
-    case HistorySpec::Quantity::block_velocity: return m.blocks[s.block].vc[s.component];
-    case HistorySpec::Quantity::face_displacement: {
-      double sum = 0.0;
-      for (int g : s.points) sum += (m.gp[g].x - m.gp[g].x0)[s.component];
-      return s.points.empty() ? 0.0 : sum / static_cast<double>(s.points.size());
-    }
-    case HistorySpec::Quantity::unbalanced_ratio: return e_.unbalanced_ratio();
-    case HistorySpec::Quantity::kinetic_energy: return e_.kinetic_energy();
-    case HistorySpec::Quantity::time_step: return e_.dt();
-  }
-  return 0.0;
+  return s.quantity->measure(c_.model, e_, s.target);
 }
 
 }  // namespace rockdem

@@ -1,0 +1,82 @@
+#pragma once
+// The kinds of boundary condition a case can name (`type = "fixed"`, ...), registered by name in
+// condition_kinds.cpp beside the factories that make them, each with the keys it takes. A case
+// reader asks this list which keys a kind has and how to read them, and the case builder makes a
+// condition without knowing the kinds, so adding a kind touches no reader or builder.
+// A kind is made from a neutral description (ConditionInput), not from a file format: readers
+// fill it from their files, other code (e.g. a model generator) fills it directly.
+#include <functional>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "framework/boundary/conditions.hpp"
+#include "framework/core/units.hpp"
+
+namespace rockdem {
+
+// One key a kind takes: how a reader reads it, and what it means (for documentation).
+struct ConditionKey {
+  enum class Type {
+    time_function,  // a value with unit or a time history, of `dimension`
+    names,          // a list of names, e.g. components = ["x"]
+  };
+  std::string name;
+  Type type = Type::time_function;
+  Dimension dimension = Dimension::dimensionless;
+  std::string description;
+};
+
+// The value given for a key, with where it was written (for messages).
+struct ConditionValue {
+  std::optional<TimeFunction> function;  // time_function keys
+  std::vector<std::string> names;        // names keys
+  std::vector<std::string> name_wheres;  // where each of `names` was written
+  std::string where;
+};
+
+// Everything a kind's factory needs: the block's face it acts on and the values of the keys given.
+struct ConditionInput {
+  const Model& model;
+  FaceSelection selection;
+  bool rigid = false;  // the selection's block is rigid
+  std::map<std::string, ConditionValue> values;
+  std::string where;  // the condition as a whole, for messages
+  const ConditionValue* value(const std::string& key) const;
+};
+
+struct ConditionKind {
+  std::string name;
+  std::string summary;
+  std::vector<ConditionKey> keys;
+  // Acts on a whole rigid block, so that naming a face of a rigid block is a mistake.
+  bool whole_rigid_block = false;
+  std::function<std::unique_ptr<BoundaryCondition>(const ConditionInput&)> make;
+};
+
+// Kinds in the order they were registered (the order messages and documentation list them in).
+class ConditionKinds {
+ public:
+  static ConditionKinds& instance();
+  void add(ConditionKind kind);
+  const ConditionKind* find(const std::string& name) const;
+  // Throws an InputError at `where` listing the valid kinds when `name` is unknown.
+  const ConditionKind& get(const std::string& name, const std::string& where) const;
+  const std::vector<ConditionKind>& kinds() const { return kinds_; }
+  // The first kind's declaration of `key` (kinds that share a key read it alike), or null.
+  const ConditionKey* key(const std::string& name) const;
+  // The keys of all kinds, each once, in registration order.
+  std::vector<std::string> key_names() const;
+
+ private:
+  std::vector<ConditionKind> kinds_;
+};
+
+// Registers a kind at static initialisation: `const ConditionKindRegistrar r{ConditionKind{...}};`
+struct ConditionKindRegistrar {
+  explicit ConditionKindRegistrar(ConditionKind kind) { ConditionKinds::instance().add(std::move(kind)); }
+};
+
+}  // namespace rockdem

@@ -1,0 +1,259 @@
+#include "framework/io/case_builder.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "framework/contact/detection.hpp"
+#include "framework/core/error.hpp"
+#include "framework/core/names.hpp"
+#include "framework/geometry/mesh.hpp"
+#include "framework/mechanics/zones.hpp"
+#include "framework/plugin_api/rock_material.hpp"
+
+namespace rockdem {
+namespace {
+
+Polygon block_shape(const BlockSpec& s) {
+  if (s.rectangle) {
+    const auto& r = *s.rectangle;
+    if (!(r.width > 0 && r.height > 0)) throw InputError(s.shape_where + ": width and height must be positive");
+    return {{r.x0, r.y0}, {r.x0 + r.width, r.y0}, {r.x0 + r.width, r.y0 + r.height}, {r.x0, r.y0 + r.height}};
+  }
+  if (!is_simple(s.polygon)) throw InputError(s.shape_where + ": the polygon intersects itself");
+  return s.polygon;
+}
+
+TriMesh block_mesh(const BlockSpec& s, const Polygon& shape) {
+  const auto rect = s.rectangle.value_or(BlockSpec::Rectangle{});
+  if (s.zones) {
+    if (!s.rectangle) throw InputError(s.zones_where + ": zones = [nx, ny] is for rectangles; use zone_size for polygons");
+    return mesh_rectangle(rect.x0, rect.y0, rect.width, rect.height, (*s.zones)[0], (*s.zones)[1]);
+  }
+  if (s.mesh == BlockSpec::Mesh::unstructured) return mesh_polygon(shape, s.zone_size);
+  if (!s.rectangle)
+    throw InputError(s.mesh_where + ": a structured mesh needs rectangle = [...]; use mesh = \"unstructured\" for polygons");
+  return mesh_rectangle(rect.x0, rect.y0, rect.width, rect.height,
+                        std::max(1, static_cast<int>(std::lround(rect.width / s.zone_size))),
+                        std::max(1, static_cast<int>(std::lround(rect.height / s.zone_size))));
+}
+
+}  // namespace
+
+CaseBuilder::CaseBuilder(const std::string& file, const std::string& title) {
+  c_.file = file;
+  c_.title = title;
+}
+
+void CaseBuilder::model_settings(const ModelSettingsSpec& s) {
+  Model& m = c_.model;
+  if (s.gravity) m.gravity = *s.gravity;
+  m.contacts.rounding = s.rounding;
+  m.contacts.tolerance = s.tolerance;
+  c_.settings.detection.distance = s.rounding + s.tolerance;
+}
+
+void CaseBuilder::time(const TimeSpec& s) {
+  c_.settings.dt_safety = s.dt_safety;
+  c_.settings.fixed_dt = s.fixed_dt;
+  c_.settings.mass_scaling_dt = s.mass_scaling_dt;
+  c_.settings.refresh_interval = s.refresh_interval;
+  c_.settings.velocity_limit = s.velocity_limit;
+}
+
+void CaseBuilder::add_material(const MaterialSpec& s) {
+  const auto& entry = RockMaterialRegistry::instance().get(s.model, "rock material", s.model_where);
+  materials_[s.name] = static_cast<int>(c_.model.materials.size());
+  c_.model.materials.push_back(entry.make(s.params, s.where));
+}
+
+void CaseBuilder::add_joint(const JointSpec& s) {
+  Model& m = c_.model;
+  m.contacts.models.push_back(make_joint_model(s.law, s.params, s.effects, s.law_where));
+  m.contacts.model_names.push_back(s.name);
+  joints_.push_back(s);
+}
+
+int CaseBuilder::group_index(const std::string& group) {
+  auto it = groups_.find(group);
+  if (it != groups_.end()) return it->second;
+  const int i = static_cast<int>(groups_.size());
+  groups_[group] = i;
+  return i;
+}
+
+int CaseBuilder::material_index(const BlockSpec& s) const {
+  auto it = materials_.find(s.material);
+  if (it == materials_.end())
+    throw InputError(s.material_where + ": unknown material '" + s.material + "'; defined materials: " +
+                     (materials_.empty() ? "(none: add [[materials]])" : join_keys(materials_)));
+  return it->second;
+}
+
+void CaseBuilder::add_block(const BlockSpec& s) {
+  Model& m = c_.model;
+  if (std::find(c_.block_names.begin(), c_.block_names.end(), s.name) != c_.block_names.end())
+    throw InputError(s.where + ": a block named '" + s.name + "' already exists");
+  const int group = group_index(s.group.empty() ? s.name : s.group);
+  const Polygon shape = block_shape(s);
+  if (s.rigid) {
+    add_rigid_block(m, shape, s.density, s.name, group);
+  } else {
+    const int material = material_index(s);  // named before the mesh is made, as mistakes go
+    add_deformable_block(m, block_mesh(s, shape), material, s.name, group);
+  }
+  c_.block_names.push_back(s.name);
+}
+
+// Overlapping blocks at the start are an input error (touching along an edge is fine). Only
+// pairs whose boxes meet are tested (the contact broad phase), so large models stay cheap.
+void CaseBuilder::check_overlaps() const {
+  const Model& m = c_.model;
+  for (const auto& [i, j] : broad_phase(m, 0.0)) {
+    Polygon a, b;
+    for (int g : m.blocks[i].boundary) a.push_back(m.gp[g].x);
+    for (int g : m.blocks[j].boundary) b.push_back(m.gp[g].x);
+    if (polygons_overlap(a, b, 1e-9 * std::sqrt(std::abs(signed_area(a)))))
+      throw InputError(c_.file + ": blocks '" + m.blocks[i].name + "' and '" + m.blocks[j].name +
+                       "' overlap at the start (intersection area " + std::to_string(intersection_area(a, b)) +
+                       " m^2); blocks may touch but not overlap");
+  }
+}
+
+void CaseBuilder::assign_joint_groups() {
+  auto& contacts = c_.model.contacts;
+  contacts.group_names.resize(groups_.size());
+  for (const auto& [g, i] : groups_) contacts.group_names[static_cast<std::size_t>(i)] = g;
+  for (std::size_t j = 0; j < joints_.size(); ++j) {
+    const auto& [a, b] = joints_[j].between;
+    auto ga = groups_.find(a), gb = groups_.find(b);
+    const bool any_a = a == "*", any_b = b == "*";
+    if ((!any_a && ga == groups_.end()) || (!any_b && gb == groups_.end()))
+      throw InputError(c_.file + ": joint '" + contacts.model_names[j] + "' names a block group '" +
+                       (ga == groups_.end() ? a : b) + "' that no block has; groups: " + join_keys(groups_) +
+                       " (or \"*\" for any)");
+    contacts.assignments.push_back({any_a ? -1 : ga->second, any_b ? -1 : gb->second, static_cast<int>(j)});
+  }
+}
+
+void CaseBuilder::finish_blocks() {
+  if (c_.model.blocks.empty()) throw InputError(c_.file + ": the case defines no blocks; add [[blocks]]");
+  check_overlaps();
+  assign_joint_groups();
+}
+
+void CaseBuilder::add_boundary(const BoundarySpec& s) {
+  const Model& m = c_.model;
+  const int block = c_.block_index(s.block, s.block_where);
+  const std::string& block_name = m.blocks[block].name;
+  FaceSelection sel = select_face(m, block, face_direction(s.face, s.face_where));
+  if (sel.points.empty())
+    throw InputError(s.where + ": face '" + s.face + "' of block '" + block_name + "' has no gridpoints");
+  const bool rigid = m.blocks[block].rigid;
+  const ConditionKinds& kinds = ConditionKinds::instance();
+  if (const ConditionKind* k = kinds.find(s.type); k && k->whole_rigid_block && rigid && s.face_given)
+    throw InputError(s.face_where + ": block '" + block_name + "' is rigid; a " + s.type +
+                     " condition acts on the whole rigid block, so leave out 'face'");
+  const ConditionKind& kind = kinds.get(s.type, s.type_where);
+  auto bc = kind.make(ConditionInput{m, std::move(sel), rigid, s.values, s.where});
+  bc->stages = s.stages;
+  c_.conditions.push_back(std::move(bc));
+}
+
+void CaseBuilder::add_stage(const StageInput& s) {
+  StageSpec stage = s.stage;
+  for (const auto& change : s.joint_changes) {
+    auto def = std::find_if(joints_.begin(), joints_.end(), [&](const JointSpec& j) { return j.name == change.joint; });
+    if (def == joints_.end())
+      throw InputError(change.where + ": no joint named '" + change.joint + "'; joints: " + join_names(joints_, &JointSpec::name));
+    // The joint's parameters as in [[joints]], with the stage's changes over them.
+    RawValues merged = def->params;
+    for (const auto& [key, value] : change.params) merged[key] = value;
+    stage.joint_models.emplace_back(static_cast<int>(def - joints_.begin()),
+                                    make_joint_model(def->law, merged, def->effects, change.where));
+  }
+  c_.stages.push_back(std::move(stage));
+}
+
+std::string CaseBuilder::stage_list() const { return join_names(stage_names_); }
+
+void CaseBuilder::finish_stages() {
+  if (c_.stages.empty()) throw InputError(c_.file + ": the case defines no stages; add [[stages]]");
+  for (const auto& s : c_.stages) stage_names_.insert(s.name);
+  for (const auto& bc : c_.conditions)
+    for (const auto& s : bc->stages)
+      if (!stage_names_.count(s))
+        throw InputError(c_.file + ": a boundary condition names stage '" + s + "' that does not exist; stages: " +
+                         stage_list());
+}
+
+void CaseBuilder::add_history(const HistoryInput& s) {
+  const Model& m = c_.model;
+  HistorySpec h;
+  h.name = s.name;
+  h.quantity = &HistoryQuantities::instance().get(s.quantity, s.quantity_where);
+  const HistoryQuantity& q = *h.quantity;
+  h.unit = s.unit.value_or(q.unit);
+  h.description = s.description;
+  h.scale = s.scale;
+  if (q.needs_block) {
+    h.target.block = c_.block_index(s.block, s.block_where);
+    const std::string component = s.component.value_or(q.components.front());
+    const auto c = std::find(q.components.begin(), q.components.end(), component);
+    if (c == q.components.end())
+      throw InputError(s.component_where + ": unknown component '" + component + "'; valid: " + join_names(q.components));
+    h.target.component = static_cast<int>(c - q.components.begin());
+    const Block& b = m.blocks[h.target.block];
+    if (q.rigid_only && !b.rigid)
+      throw InputError(s.quantity_where + ": '" + q.name + "' is for rigid blocks; block '" + b.name +
+                       "' is deformable: use face_displacement");
+    if (q.needs_face) h.target.points = select_face(m, h.target.block, face_direction(s.face, s.face_where)).points;
+  }
+  c_.histories.push_back(std::move(h));
+}
+
+void CaseBuilder::direct_shear(const DirectShearInput& s) {
+  const Model& m = c_.model;
+  auto& d = c_.direct_shear;
+  d.enabled = true;
+  d.specimen = s.specimen;
+  d.joint_length = s.joint_length;
+  d.loader = c_.block_index(s.loader, s.loader_where);
+  d.top = c_.block_index(s.top, s.top_where);
+  d.bottom = c_.block_index(s.bottom, s.bottom_where);
+  d.shear_stages = s.shear_stages;
+  d.normal_stresses = s.normal_stresses;
+  for (const auto& stage : d.shear_stages)
+    if (!stage_names_.count(stage))
+      throw InputError(s.where + ": no stage named '" + stage + "'; stages: " + stage_list());
+  d.top_face = select_face(m, d.top, {0, -1}).points;
+  d.bottom_face = select_face(m, d.bottom, {0, 1}).points;
+  if (!m.blocks[d.loader].rigid) throw InputError(s.loader_where + ": the loading block must be rigid");
+  for (std::size_t i = 0; i < s.other_loaders.size(); ++i) {
+    const int b = c_.block_index(s.other_loaders[i], s.other_loader_wheres[i]);
+    if (!m.blocks[b].rigid) throw InputError(s.other_loader_wheres[i] + ": a loading block must be rigid");
+    d.other_loaders.push_back(b);
+  }
+}
+
+void CaseBuilder::output(const OutputSpec& s) { c_.output = s; }
+
+Case CaseBuilder::finish() { return std::move(c_); }
+
+Case build_case(const CaseSpec& spec) {
+  CaseBuilder b(spec.file, spec.title);
+  b.model_settings(spec.model);
+  if (spec.time) b.time(*spec.time);
+  for (const auto& s : spec.materials) b.add_material(s);
+  for (const auto& s : spec.joints) b.add_joint(s);
+  for (const auto& s : spec.blocks) b.add_block(s);
+  b.finish_blocks();
+  for (const auto& s : spec.boundaries) b.add_boundary(s);
+  for (const auto& s : spec.stages) b.add_stage(s);
+  b.finish_stages();
+  for (const auto& s : spec.histories) b.add_history(s);
+  if (spec.direct_shear) b.direct_shear(*spec.direct_shear);
+  if (spec.output) b.output(*spec.output);
+  return b.finish();
+}
+
+}  // namespace rockdem

@@ -1,0 +1,59 @@
+#pragma once
+// Builds a Case (model, engine settings, boundary conditions, stages, histories, outputs) from
+// plain specs (case_spec.hpp), without any file format. The case reader hands it each entry of a
+// case file as soon as it has read it, so mistakes in different entries are reported in the
+// order they are written;
+// code that makes its specs itself (e.g. a rock-mass generator) calls build_case().
+//
+// The parts must come in this order, each at most once unless it says "add": model_settings,
+// time, add_material, add_joint, add_block, finish_blocks, add_boundary, add_stage, finish_stages,
+// add_history, direct_shear, output, finish. Every mistake is an InputError naming the spec's
+// `where` for it.
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "framework/io/case_data.hpp"
+#include "framework/io/case_spec.hpp"
+
+namespace rockdem {
+
+class CaseBuilder {
+ public:
+  CaseBuilder(const std::string& file, const std::string& title);
+
+  void model_settings(const ModelSettingsSpec& s);
+  void time(const TimeSpec& s);
+  void add_material(const MaterialSpec& s);
+  void add_joint(const JointSpec& s);
+  void add_block(const BlockSpec& s);
+  // No blocks, blocks that overlap and joints between groups no block has are mistakes.
+  void finish_blocks();
+  void add_boundary(const BoundarySpec& s);
+  void add_stage(const StageInput& s);
+  // No stages, and conditions naming stages that do not exist, are mistakes.
+  void finish_stages();
+  void add_history(const HistoryInput& s);
+  void direct_shear(const DirectShearInput& s);
+  void output(const OutputSpec& s);
+  Case finish();
+
+ private:
+  int group_index(const std::string& group);
+  int material_index(const BlockSpec& s) const;
+  void check_overlaps() const;
+  void assign_joint_groups();
+  std::string stage_list() const;
+
+  Case c_;
+  std::map<std::string, int> materials_;  // name -> index in Model::materials
+  std::map<std::string, int> groups_;     // block group -> index
+  std::vector<JointSpec> joints_;         // index = joint model; kept for stage changes
+  std::set<std::string> stage_names_;
+};
+
+// A whole case from specs made in code.
+Case build_case(const CaseSpec& spec);
+
+}  // namespace rockdem

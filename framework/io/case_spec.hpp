@@ -1,0 +1,131 @@
+#pragma once
+// A DEM case as plain data: what the case reader (case_reader.hpp) makes of each table of a case
+// file, and what the case builder (case_builder.hpp) turns into a Model, boundary conditions,
+// stages and histories. Nothing here knows TOML, so specs can also be made in code (e.g. by a
+// rock-mass generator) and built the same way. Values are in SI units.
+//
+// Members named `where` or `*_where` are the places messages name when the builder finds a
+// mistake ("case.toml:12 key 'blocks.top.material'", "case.toml:9 [boundary]"); the reader
+// writes them as the case-file messages always read, code that makes specs writes whatever tells
+// its user where the value came from.
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "framework/boundary/condition_kinds.hpp"
+#include "framework/core/params.hpp"
+#include "framework/geometry/polygon.hpp"
+#include "framework/io/case_data.hpp"
+#include "framework/plugin_api/joint_law.hpp"
+
+namespace rockdem {
+
+// [model]
+struct ModelSettingsSpec {
+  double rounding = 0.5e-3;   // [m]
+  double tolerance = 1e-3;    // detection tolerance [m]
+  std::optional<Vec2> gravity;
+};
+
+// [time]: the engine settings that a case sets (the defaults are EngineSettings').
+struct TimeSpec {
+  double dt_safety = 0.5, fixed_dt = 0.0, mass_scaling_dt = 0.0;
+  int refresh_interval = 10;
+  double velocity_limit = 1e3;
+};
+
+// [[materials]]: a rock material by model name and parameter values.
+struct MaterialSpec {
+  std::string name, model;
+  RawValues params;
+  std::string where, model_where;
+};
+
+// [[joints]]: a joint law with effects, acting between two block groups ("*": any).
+struct JointSpec {
+  std::string name, law;
+  std::array<std::string, 2> between;
+  RawValues params;
+  std::vector<EffectSpec> effects;
+  std::string law_where;
+};
+
+// [[blocks]]: a rigid block or a meshed deformable one.
+struct BlockSpec {
+  struct Rectangle {
+    double x0 = 0, y0 = 0, width = 0, height = 0;
+  };
+  enum class Mesh { structured, unstructured };
+  std::string name, group;  // group: defaults to the name
+  bool rigid = true;
+  std::optional<Rectangle> rectangle;  // the shape: a rectangle, or else `polygon`
+  Polygon polygon;
+  double density = 0.0;                // rigid blocks [kg/m3]
+  std::string material;                // deformable blocks: a [[materials]] name
+  std::optional<std::array<int, 2>> zones;  // rectangles: nx, ny zones; else `zone_size`
+  double zone_size = 0.0;                   // [m]
+  Mesh mesh = Mesh::structured;
+  std::string where, shape_where, material_where, zones_where, mesh_where;
+};
+
+// [[boundary]]: a condition of a registered kind (framework/boundary/condition_kinds.hpp) on a
+// block's face, with the values of the kind's keys.
+struct BoundarySpec {
+  std::string type, block;
+  std::string face = "all";
+  bool face_given = false;
+  std::map<std::string, ConditionValue> values;
+  std::vector<std::string> stages;  // empty: all
+  std::string where, type_where, block_where, face_where;
+};
+
+// [[stages]]: the stage as run, and the joints whose parameters change from it on.
+struct StageInput {
+  struct JointChange {
+    std::string joint;
+    RawValues params;  // only the parameters that change
+    std::string where;
+  };
+  StageSpec stage;  // joint_models left empty: the builder makes them from `joint_changes`
+  std::vector<JointChange> joint_changes;
+};
+
+// [[histories]]
+struct HistoryInput {
+  std::string name, quantity, block, face;
+  std::optional<std::string> component;  // default x
+  std::optional<std::string> unit;       // default the quantity's
+  std::string description;
+  double scale = 1.0;
+  std::string quantity_where, block_where, component_where, face_where;
+};
+
+// [direct_shear]: blocks by name; see DirectShearSpec.
+struct DirectShearInput {
+  std::string specimen;
+  double joint_length = 0.0;
+  std::string loader, top, bottom;
+  std::vector<std::string> other_loaders, other_loader_wheres;
+  std::vector<std::string> shear_stages;
+  std::vector<double> normal_stresses;
+  std::string where, loader_where, top_where, bottom_where;
+};
+
+// A whole case, in the order the builder takes its parts.
+struct CaseSpec {
+  std::string file;  // named by messages about the case as a whole
+  std::string title = "untitled";
+  ModelSettingsSpec model;
+  std::optional<TimeSpec> time;
+  std::vector<MaterialSpec> materials;
+  std::vector<JointSpec> joints;
+  std::vector<BlockSpec> blocks;
+  std::vector<BoundarySpec> boundaries;
+  std::vector<StageInput> stages;
+  std::vector<HistoryInput> histories;
+  std::optional<DirectShearInput> direct_shear;
+  std::optional<OutputSpec> output;
+};
+
+}  // namespace rockdem

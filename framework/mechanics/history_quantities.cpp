@@ -1,0 +1,74 @@
+#include "framework/mechanics/history_quantities.hpp"
+
+#include "framework/core/error.hpp"
+#include "framework/core/names.hpp"
+#include "framework/mechanics/engine.hpp"
+
+namespace rockdem {
+
+HistoryQuantities& HistoryQuantities::instance() {
+  static HistoryQuantities q;
+  return q;
+}
+
+void HistoryQuantities::add(HistoryQuantity q) {
+  const std::string name = q.name;
+  quantities_[name] = std::move(q);
+}
+
+const HistoryQuantity* HistoryQuantities::find(const std::string& name) const {
+  auto it = quantities_.find(name);
+  return it == quantities_.end() ? nullptr : &it->second;
+}
+
+const HistoryQuantity& HistoryQuantities::get(const std::string& name, const std::string& where) const {
+  if (const HistoryQuantity* q = find(name)) return *q;
+  throw InputError(where + ": unknown quantity '" + name + "'; valid: " + join_keys(quantities_));
+}
+
+namespace {
+
+double contact_force(const Model&, const Engine& e, const HistoryTarget& t) {
+  return e.contact_force_on(t.block)[t.component];
+}
+
+double block_displacement(const Model& m, const Engine&, const HistoryTarget& t) {
+  const Block& b = m.blocks[t.block];
+  return t.component == 2 ? b.theta : (b.xc - b.xc0)[t.component];
+}
+
+double block_velocity(const Model& m, const Engine&, const HistoryTarget& t) { return m.blocks[t.block].vc[t.component]; }
+
+double face_displacement(const Model& m, const Engine&, const HistoryTarget& t) {
+  double sum = 0.0;
+  for (int g : t.points) sum += (m.gp[g].x - m.gp[g].x0)[t.component];
+  return t.points.empty() ? 0.0 : sum / static_cast<double>(t.points.size());
+}
+
+const std::vector<std::string> kXY{"x", "y"};
+
+// name, unit, description, needs block, rigid only, needs face, components, reduction, measure
+const HistoryQuantityRegistrar contact_force_q{HistoryQuantity{
+    "contact_force", "N/m", "sum of the contact forces on a block, x or y", true, false, false, kXY,
+    Reduction::sum, contact_force}};
+const HistoryQuantityRegistrar block_displacement_q{HistoryQuantity{
+    "block_displacement", "m", "rigid-block centroid displacement, x or y [m], or rotation [rad]", true, true,
+    false, {"x", "y", "rotation"}, Reduction::owner, block_displacement}};
+const HistoryQuantityRegistrar block_velocity_q{HistoryQuantity{
+    "block_velocity", "m/s", "rigid-block centroid velocity, x or y", true, true, false, kXY, Reduction::owner,
+    block_velocity}};
+const HistoryQuantityRegistrar face_displacement_q{HistoryQuantity{
+    "face_displacement", "m", "mean displacement of the gridpoints of a block face, x or y", true, false, true, kXY,
+    Reduction::owner, face_displacement}};
+const HistoryQuantityRegistrar unbalanced_ratio_q{HistoryQuantity{
+    "unbalanced_ratio", "", "unbalanced force over applied force", false, false, false, {}, Reduction::max,
+    [](const Model&, const Engine& e, const HistoryTarget&) { return e.unbalanced_ratio(); }}};
+const HistoryQuantityRegistrar kinetic_energy_q{HistoryQuantity{
+    "kinetic_energy", "J/m", "kinetic energy of the model", false, false, false, {}, Reduction::sum,
+    [](const Model&, const Engine& e, const HistoryTarget&) { return e.kinetic_energy(); }}};
+const HistoryQuantityRegistrar time_step_q{HistoryQuantity{
+    "time_step", "s", "time step", false, false, false, {}, Reduction::min,
+    [](const Model&, const Engine& e, const HistoryTarget&) { return e.dt(); }}};
+
+}  // namespace
+}  // namespace rockdem

@@ -1,0 +1,65 @@
+#pragma once
+// The quantities a case can record as histories (`[[histories]] quantity = "..."`), each defined
+// once, in history_quantities.cpp: its name, the parameters it needs, its unit and description,
+// how it is measured on a model and engine, and how values from several processes combine. The
+// case reader validates names here, the case builder checks parameters against it, and the
+// recorder measures through it.
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "framework/model/model.hpp"
+
+namespace rockdem {
+
+class Engine;
+
+// What one history measures on: the members the quantity's parameters name are set.
+struct HistoryTarget {
+  int block = -1;
+  int component = 0;        // index into HistoryQuantity::components
+  std::vector<int> points;  // gridpoints of a block face
+};
+
+// How the values of the processes of a parallel run combine into the history's value. Declared
+// so that each quantity states it now; a parallel recorder will apply it.
+enum class Reduction {
+  sum,    // every process holds a part (e.g. contact forces of its contacts)
+  max,    // every process holds a bound, the largest one applies
+  min,    // e.g. the time step: the smallest one applies
+  owner,  // only the process owning the block holds it
+};
+
+struct HistoryQuantity {
+  std::string name;
+  std::string unit;  // SI; the default label of the series
+  std::string description;
+  bool needs_block = false;             // `block` names the block measured
+  bool rigid_only = false;              // the block must be rigid
+  bool needs_face = false;              // `face` names a face of the block (its gridpoints are measured)
+  std::vector<std::string> components;  // accepted `component`s, the first is the default; empty: none
+  Reduction reduction = Reduction::sum;
+  std::function<double(const Model&, const Engine&, const HistoryTarget&)> measure;
+};
+
+// Quantities by name; listed (in messages) in name order.
+class HistoryQuantities {
+ public:
+  static HistoryQuantities& instance();
+  void add(HistoryQuantity q);
+  const HistoryQuantity* find(const std::string& name) const;
+  // Throws an InputError at `where` listing the valid names when `name` is unknown.
+  const HistoryQuantity& get(const std::string& name, const std::string& where) const;
+  const std::map<std::string, HistoryQuantity>& quantities() const { return quantities_; }
+
+ private:
+  std::map<std::string, HistoryQuantity> quantities_;
+};
+
+// Registers a quantity at static initialisation: `const HistoryQuantityRegistrar r{HistoryQuantity{...}};`
+struct HistoryQuantityRegistrar {
+  explicit HistoryQuantityRegistrar(HistoryQuantity q) { HistoryQuantities::instance().add(std::move(q)); }
+};
+
+}  // namespace rockdem
