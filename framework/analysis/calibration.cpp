@@ -296,21 +296,6 @@ std::array<double, 3> nrmse_of(const Comparison& c) {
 
 }  // namespace
 
-const std::vector<std::string>& default_fixed_parameters() {
-  // Not identifiable from a constant-normal-stress shear record, or index properties measured
-  // on their own: normal stiffnesses (the normal displacement is referenced to each stage's start,
-  // so the closure under a constant normal stress never shows), stiffness power laws and clamps,
-  // cohesion and tensile strength (correlated with the friction angle over a few normal stresses),
-  // JCS/UCS and the specimen lengths (Barton-Bandis: JCS trades off with JRC), and the
-  // discretisation or reference settings of effects.
-  static const std::vector<std::string> fixed{
-      "kn", "kn_min", "kn_max", "kn_exponent", "ks_min", "ks_max", "ks_exponent", "reference_stress",
-      "cohesion", "tension", "jcs", "ucs", "lab_length", "field_length", "critical_shear_disp",
-      "initial_normal_stiffness", "max_closure",
-      "rate_and_state.reference_velocity", "directional_wear.extent"};
-  return fixed;
-}
-
 double CalibrationResult::value(const std::string& name) const {
   for (const auto& p : params)
     if (p.name == name) return p.value;
@@ -413,7 +398,10 @@ CalibrationResult calibrate(const MeasurementFile& data, const Segmentation& seg
 
   // The real parameters of the law and its effects.
   std::vector<Slot> slots;
-  auto add_slots = [&](const std::vector<ParamInfo>& infos, const std::string& owner, int effect, const RawValues& given) {
+  // Free unless the law or effect declares the parameter fixed by default (what a shear record
+  // cannot identify); freed or fixed below as asked.
+  auto add_slots = [&](const std::vector<ParamInfo>& infos, const std::vector<std::string>& fixed, const std::string& owner,
+                       int effect, const RawValues& given) {
     for (const auto& info : infos) {
       if (info.kind != "real") continue;
       Slot s;
@@ -421,6 +409,7 @@ CalibrationResult calibrate(const MeasurementFile& data, const Segmentation& seg
       s.owner = owner;
       s.effect = effect;
       s.name = effect < 0 ? info.name : owner + "." + info.name;
+      s.free = std::find(fixed.begin(), fixed.end(), info.name) == fixed.end();
       if (auto it = given.find(info.name); it != given.end()) {
         s.value = parse_real(info, it->second, (effect < 0 ? "joint law '" : "effect '") + owner + "'");
         s.given = true;
@@ -430,11 +419,12 @@ CalibrationResult calibrate(const MeasurementFile& data, const Segmentation& seg
       slots.push_back(std::move(s));
     }
   };
-  add_slots(law_entry.params, options.law, -1, options.law_values);
+  add_slots(law_entry.params, law_entry.declared.fixed_by_default, options.law, -1, options.law_values);
   for (std::size_t e = 0; e < options.effects.size(); ++e) {
     const auto& ee = EffectRegistry::instance().get(options.effects[e], "effect", "calibrate --effects");
     const auto it = options.effect_values.find(options.effects[e]);
-    add_slots(ee.params, options.effects[e], static_cast<int>(e), it == options.effect_values.end() ? RawValues{} : it->second);
+    add_slots(ee.params, ee.declared.fixed_by_default, options.effects[e], static_cast<int>(e),
+              it == options.effect_values.end() ? RawValues{} : it->second);
   }
   auto names = [&] {
     std::vector<std::string> v;
@@ -456,11 +446,6 @@ CalibrationResult calibrate(const MeasurementFile& data, const Segmentation& seg
   };
 
   // Which are free: real parameters not fixed by default (or freed), not fixed by the user.
-  const auto& fixed = default_fixed_parameters();
-  for (auto& s : slots) {
-    const bool by_default = std::find(fixed.begin(), fixed.end(), s.name) != fixed.end();
-    s.free = !by_default;
-  }
   for (const auto& n : options.free) find(n, "--free").free = true;
   if (!options.only_free.empty()) {
     std::set<std::string> keep;

@@ -41,7 +41,8 @@ struct CalibrationOptions {
   // The same as written on the command line ("30 deg", "0.5"), parsed with the parameter's unit
   // and range (InputError naming the parameter otherwise).
   std::map<std::string, std::string> fix_text;
-  // Parameters fixed by default (kDefaultFixed in calibration.cpp) to fit nevertheless.
+  // Parameters fixed by default (each law's and effect's `fixed_by_default` declaration) to fit
+  // nevertheless.
   std::vector<std::string> free;
   // If not empty, only these parameters are free (the others keep their starting values):
   // diagnose refits an effect's parameters plus the base law's.
@@ -120,9 +121,6 @@ DataEstimates estimate_from_data(const MeasurementFile& data, const Segmentation
 // Fits; throws InputError for unknown laws, effects or parameter names (listing the valid ones)
 // and for bad fixed values. A fit that fails or stops early is reported in `status`/`warnings`.
 CalibrationResult calibrate(const MeasurementFile& data, const Segmentation& seg, const CalibrationOptions& options);
-
-// The parameters fixed unless freed (documented in the user guide): "law_or_effect.param".
-const std::vector<std::string>& default_fixed_parameters();
 
 // What `rockdem calibrate` and `rockdem diagnose` read from their command lines: the law, the
 // effects as a comma list, a laboratory case (its stages, paths, element settings and, for the
