@@ -122,19 +122,6 @@ DataEstimates estimate_from_data(const MeasurementFile& data, const Segmentation
 // and for bad fixed values. A fit that fails or stops early is reported in `status`/`warnings`.
 CalibrationResult calibrate(const MeasurementFile& data, const Segmentation& seg, const CalibrationOptions& options);
 
-// What `rockdem calibrate` and `rockdem diagnose` read from their command lines: the law, the
-// effects as a comma list, a laboratory case (its stages, paths, element settings and, for the
-// same law, its parameters as starting values), --fix NAME=VALUE, --free NAME, --set NAME=VALUE
-// (a value that is not fitted, e.g. dilation=reversible; effect parameters as effect.param).
-struct CalibrationInputs {
-  std::string law, effects, case_file;
-  std::vector<std::string> fix, free, set;
-};
-// Fills `opt` (law, effects, fixes, element settings, stages) from them; notes say what of a case
-// is not used. InputErrors name the option and list what is valid.
-void apply_inputs(const std::string& data_file, const MeasurementFile& data, const CalibrationInputs& in,
-                  CalibrationOptions& opt, std::vector<std::string>& notes);
-
 nlohmann::json to_json(const CalibrationResult& r);
 std::string format_table(const CalibrationResult& r);
 
