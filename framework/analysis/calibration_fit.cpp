@@ -20,6 +20,60 @@ RawValue raw_of(double v, Dimension d) {
   return r;
 }
 
+// Residuals and Jacobian at the last point Ceres asked for, shared by the one-residual blocks
+// (one block per residual, so that the robust loss acts on each residual, not on their sum).
+class SharedResiduals {
+ public:
+  SharedResiduals(const Evaluator& ev, double step) : ev_(ev), step_(step) {}
+  bool at(const double* x, bool need_jacobian) {
+    const std::size_t kk = ev_.k();
+    if (!(have_ && std::equal(x, x + kk, x_.begin()))) {
+      x_.assign(x, x + kk);
+      have_ = true;
+      have_j_ = false;
+      ok_ = ev_.residuals(x, step_, r_);
+    }
+    if (ok_ && need_jacobian && !have_j_) {
+      ok_j_ = ev_.jacobian(x, r_, step_, J_);
+      have_j_ = true;
+    }
+    return ok_ && (!need_jacobian || ok_j_);
+  }
+  double r(std::size_t i) const { return r_[i]; }
+  double j(std::size_t i, std::size_t c) const {
+    return J_(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(c));
+  }
+
+ private:
+  const Evaluator& ev_;
+  double step_;
+  std::vector<double> x_, r_;
+  Eigen::MatrixXd J_;
+  bool have_ = false, have_j_ = false, ok_ = false, ok_j_ = false;
+};
+
+class RowCost final : public ceres::CostFunction {
+ public:
+  RowCost(SharedResiduals& s, std::size_t row, int k) : s_(s), row_(row) {
+    set_num_residuals(1);
+    mutable_parameter_block_sizes()->push_back(k);
+  }
+  bool Evaluate(double const* const* p, double* residuals, double** jacobians) const override {
+    const bool need_j = jacobians != nullptr && jacobians[0] != nullptr;
+    if (!s_.at(p[0], need_j)) return false;
+    residuals[0] = s_.r(row_);
+    if (need_j) {
+      const auto kk = static_cast<std::size_t>(parameter_block_sizes()[0]);
+      for (std::size_t c = 0; c < kk; ++c) jacobians[0][c] = s_.j(row_, c);
+    }
+    return true;
+  }
+
+ private:
+  SharedResiduals& s_;
+  std::size_t row_;
+};
+
 }  // namespace
 
 bool log_dimension(Dimension d) {
@@ -133,6 +187,71 @@ bool Evaluator::jacobian(const double* x, const std::vector<double>& r0, double 
   work();
   for (auto& t : pool) t.join();
   return true;
+}
+
+ceres::Solver::Summary solve(const Evaluator& ev, std::vector<double>& xs, double step, int max_iterations, double loss_scale,
+                             std::atomic<int>& iterations) {
+  SharedResiduals shared(ev, step);
+  ceres::Problem::Options po;
+  po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  ceres::Problem problem(po);
+  std::unique_ptr<ceres::LossFunction> loss;
+  if (loss_scale > 0.0) loss = std::make_unique<ceres::SoftLOneLoss>(loss_scale);
+  const std::size_t nn = ev.n(), kk = ev.k();
+  for (std::size_t i = 0; i < nn; ++i)
+    problem.AddResidualBlock(new RowCost(shared, i, static_cast<int>(kk)), loss.get(), xs.data());
+  for (std::size_t j = 0; j < kk; ++j) {
+    problem.SetParameterLowerBound(xs.data(), static_cast<int>(j), 0.0);
+    problem.SetParameterUpperBound(xs.data(), static_cast<int>(j), 1.0);
+  }
+  ceres::Solver::Options so;
+  so.minimizer_type = ceres::TRUST_REGION;
+  so.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+  so.linear_solver_type = ceres::DENSE_QR;
+  so.max_num_iterations = max_iterations;
+  so.function_tolerance = 1e-5;
+  so.parameter_tolerance = 1e-4;
+  so.gradient_tolerance = 1e-8;
+  so.num_threads = 1;  // our Jacobian columns run in parallel instead
+  so.logging_type = ceres::SILENT;
+  so.minimizer_progress_to_stdout = false;
+  ceres::Solver::Summary summary;
+  ceres::Solve(so, &problem, &summary);
+  iterations += static_cast<int>(summary.iterations.size());
+  return summary;
+}
+
+Eigen::VectorXd unit_standard_errors(const Evaluator& ev, const std::vector<double>& x, const std::vector<double>& r,
+                                     double step, CalibrationResult& res) {
+  const std::size_t kk = x.size();
+  Eigen::VectorXd se_x = Eigen::VectorXd::Constant(static_cast<Eigen::Index>(kk), kInf);
+  if (kk == 0) return se_x;
+  Eigen::MatrixXd J;
+  if (!ev.jacobian(x.data(), r, step, J)) {
+    res.warnings.push_back("the Jacobian at the optimum could not be evaluated: no standard errors");
+    return se_x;
+  }
+  const Eigen::MatrixXd JtJ = J.transpose() * J;
+  const double s2 = res.n > kk ? res.rss / static_cast<double>(res.n - kk) : 0.0;
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(JtJ);
+  const double lmax = eig.eigenvalues().maxCoeff();
+  // Pseudo-inverse: directions the data do not constrain (eigenvalue below 1e-10 of the
+  // largest) get an infinite standard error instead of a huge finite one.
+  Eigen::VectorXd var = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(kk));
+  std::vector<bool> flat(kk, false);
+  for (Eigen::Index a = 0; a < static_cast<Eigen::Index>(kk); ++a) {
+    const double l = eig.eigenvalues()(a);
+    const Eigen::VectorXd v = eig.eigenvectors().col(a);
+    if (!(l > 1e-10 * lmax) || !(lmax > 0.0)) {
+      for (Eigen::Index j = 0; j < static_cast<Eigen::Index>(kk); ++j)
+        if (std::abs(v(j)) > 0.1) flat[static_cast<std::size_t>(j)] = true;
+      continue;
+    }
+    var += v.cwiseProduct(v) / l;
+  }
+  for (std::size_t j = 0; j < kk; ++j)
+    se_x(static_cast<Eigen::Index>(j)) = flat[j] ? kInf : std::sqrt(s2 * var(static_cast<Eigen::Index>(j)));
+  return se_x;
 }
 
 }  // namespace rockdem::calibration_detail

@@ -1,12 +1,14 @@
 #pragma once
 // The fit behind calibrate() (framework/analysis/calibration.hpp), shared by the files that make
 // it up: the parameters as slots with their bounds and [0, 1] maps, the residuals of a model
-// against the record, their forward-difference Jacobian and the Ceres cost that reads them.
-// Internal to the analysis layer.
+// against the record, their forward-difference Jacobian, the Ceres solve (calibration_fit.cpp)
+// and the standard errors; the slots' starting values (calibration_start.cpp). Internal to the
+// analysis layer.
 #include <algorithm>
 #include <array>
 #include <atomic>
 #include <cmath>
+#include <map>
 #include <memory>
 #include <numbers>
 #include <string>
@@ -101,58 +103,23 @@ class Evaluator {
   mutable std::atomic<long> evaluations_{0};
 };
 
-// Residuals and Jacobian at the last point Ceres asked for, shared by the one-residual blocks
-// (one block per residual, so that the robust loss acts on each residual, not on their sum).
-class SharedResiduals {
- public:
-  SharedResiduals(const Evaluator& ev, double step) : ev_(ev), step_(step) {}
-  bool at(const double* x, bool need_jacobian) {
-    const std::size_t kk = ev_.k();
-    if (!(have_ && std::equal(x, x + kk, x_.begin()))) {
-      x_.assign(x, x + kk);
-      have_ = true;
-      have_j_ = false;
-      ok_ = ev_.residuals(x, step_, r_);
-    }
-    if (ok_ && need_jacobian && !have_j_) {
-      ok_j_ = ev_.jacobian(x, r_, step_, J_);
-      have_j_ = true;
-    }
-    return ok_ && (!need_jacobian || ok_j_);
-  }
-  double r(std::size_t i) const { return r_[i]; }
-  double j(std::size_t i, std::size_t c) const {
-    return J_(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(c));
-  }
+// Bounds (the registry's tightened to physical ones), scales and starting values of every
+// parameter: warm start > written values > estimates from the data > defaults
+// (calibration_start.cpp). InputError for a parameter that has none.
+void set_bounds_and_starts(std::vector<Slot>& slots, const MeasurementFile& data, const Segmentation& seg,
+                           const CalibrationOptions& options, const std::map<std::string, double>& fix,
+                           std::vector<std::string>& warnings);
 
- private:
-  const Evaluator& ev_;
-  double step_;
-  std::vector<double> x_, r_;
-  Eigen::MatrixXd J_;
-  bool have_ = false, have_j_ = false, ok_ = false, ok_j_ = false;
-};
+// Bounded Levenberg-Marquardt in the [0, 1] space from x (updated to the optimum) at the given
+// driver step, one residual block per compared row under the soft-L1 loss (loss_scale 0: plain
+// least squares); adds the iterations it took.
+ceres::Solver::Summary solve(const Evaluator& ev, std::vector<double>& x, double step, int max_iterations, double loss_scale,
+                             std::atomic<int>& iterations);
 
-class RowCost final : public ceres::CostFunction {
- public:
-  RowCost(SharedResiduals& s, std::size_t row, int k) : s_(s), row_(row) {
-    set_num_residuals(1);
-    mutable_parameter_block_sizes()->push_back(k);
-  }
-  bool Evaluate(double const* const* p, double* residuals, double** jacobians) const override {
-    const bool need_j = jacobians != nullptr && jacobians[0] != nullptr;
-    if (!s_.at(p[0], need_j)) return false;
-    residuals[0] = s_.r(row_);
-    if (need_j) {
-      const auto kk = static_cast<std::size_t>(parameter_block_sizes()[0]);
-      for (std::size_t c = 0; c < kk; ++c) jacobians[0][c] = s_.j(row_, c);
-    }
-    return true;
-  }
-
- private:
-  SharedResiduals& s_;
-  std::size_t row_;
-};
+// Standard errors in the [0, 1] space from the Jacobian at the optimum x (residuals r at the
+// driver step): Cov = (J^T J)^-1 s^2, s^2 = RSS/(n - k) from `res`; infinite where the record does
+// not constrain the parameter, all infinite (and a warning in `res`) if the Jacobian fails.
+Eigen::VectorXd unit_standard_errors(const Evaluator& ev, const std::vector<double>& x, const std::vector<double>& r,
+                                     double step, CalibrationResult& res);
 
 }  // namespace rockdem::calibration_detail

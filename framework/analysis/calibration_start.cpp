@@ -1,19 +1,74 @@
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
 
 #include "framework/analysis/calibration.hpp"
 #include "framework/analysis/calibration_fit.hpp"
+#include "framework/core/error.hpp"
 
 namespace rockdem {
 namespace {
 
 using calibration_detail::kDeg;
+using calibration_detail::log_dimension;
+using calibration_detail::physical_range;
+using calibration_detail::Slot;
 
 double median_of(std::vector<double> v) {
   if (v.empty()) return 0.0;
   const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
   std::nth_element(v.begin(), mid, v.end());
   return *mid;
+}
+
+std::string meta(const MeasurementFile& f, const std::string& key) {
+  for (const auto& [k, v] : f.metadata)
+    if (k == key) return v;
+  return {};
+}
+
+// The record's estimate of a law parameter, if it gives one (slots: the values so far).
+std::optional<double> estimate_for(const Slot& s, const std::vector<Slot>& slots, const DataEstimates& est,
+                                   const MeasurementFile& data) {
+  const bool has_initial_friction = std::any_of(slots.begin(), slots.end(), [](const Slot& o) { return o.name == "initial_friction"; });
+  auto slot_value = [&](const std::string& n, double fallback) {
+    for (const auto& o : slots)
+      if (o.name == n && std::isfinite(o.value)) return o.value;
+    return fallback;
+  };
+  if (s.effect >= 0) return std::nullopt;
+  const std::string& n = s.name;
+  if (n == "ks") return est.ks;
+  if (n == "kn") return 10.0 * est.ks;
+  if (n == "friction") return has_initial_friction ? est.residual_friction : est.mean_friction;
+  if (n == "initial_friction") return est.peak_friction + 2.0 * kDeg;
+  if (n == "residual_friction") return est.residual_friction;
+  if (n == "dilation_angle") return est.dilation_angle;
+  if (n == "roughness") return est.softening_disp / std::numbers::ln2;
+  if (n == "jcs") return 100e6;
+  if (n == "lab_length") {
+    const std::string l = meta(data, "joint_length_m");
+    return l.empty() ? 0.1 : std::stod(l);
+  }
+  if (n == "jrc") {
+    const double jcs = slot_value("jcs", 100e6);
+    const double lg = std::log10(std::max(jcs / est.mean_normal_stress, 1.5));
+    return std::clamp((est.peak_friction - est.residual_friction) / kDeg / lg, 0.5, 19.5);
+  }
+  return std::nullopt;
+}
+
+// The registry's bounds tightened to physical ones, and the scale the fit moves on.
+void set_bounds(Slot& s) {
+  const auto [plo, phi] = physical_range(s.info.dim);
+  s.lower = std::max(s.info.min, plo);
+  s.upper = std::min(s.info.max, phi);
+  if (s.info.min_open) s.lower = std::max(s.lower, s.info.min + 1e-9 * std::max(1.0, std::abs(s.info.min)));
+  if (s.info.max_open) s.upper = std::min(s.upper, s.info.max - 1e-9 * std::max(1.0, std::abs(s.info.max)));
+  s.log_scale = log_dimension(s.info.dim) && s.lower > 0.0;
 }
 
 }  // namespace
@@ -101,4 +156,30 @@ DataEstimates estimate_from_data(const MeasurementFile& data, const Segmentation
   return e;
 }
 
+namespace calibration_detail {
+
+void set_bounds_and_starts(std::vector<Slot>& slots, const MeasurementFile& data, const Segmentation& seg,
+                           const CalibrationOptions& options, const std::map<std::string, double>& fix,
+                           std::vector<std::string>& warnings) {
+  const DataEstimates est = estimate_from_data(data, seg);
+  for (auto& s : slots) {
+    set_bounds(s);
+    auto ws = options.start.find(s.name);
+    if (ws != options.start.end() && !fix.count(s.name)) {
+      s.value = ws->second;
+    } else if (!s.given) {
+      if (auto v = estimate_for(s, slots, est, data); v && (s.free || !std::isfinite(s.value))) s.value = *v;
+    }
+    if (!std::isfinite(s.value) && s.free) s.value = s.log_scale ? std::sqrt(s.lower * s.upper) : 0.5 * (s.lower + s.upper);
+    if (std::isnan(s.value)) {
+      throw InputError("calibrate: parameter '" + s.name + "' has no default and cannot be estimated from the data; "
+                       "give it with --fix " + s.name + "=VALUE or a --case");
+    }
+    if (s.free) s.value = std::clamp(s.value, s.lower, s.upper);
+    s.start = s.value;
+  }
+  if (est.ks <= 0.0) warnings.push_back("no initial elastic slope found in the record; ks starts from a default");
+}
+
+}  // namespace calibration_detail
 }  // namespace rockdem
