@@ -41,7 +41,8 @@ struct CalibrationOptions {
   // The same as written on the command line ("30 deg", "0.5"), parsed with the parameter's unit
   // and range (InputError naming the parameter otherwise).
   std::map<std::string, std::string> fix_text;
-  // Parameters fixed by default (kDefaultFixed in calibration.cpp) to fit nevertheless.
+  // Parameters fixed by default (each law's and effect's `fixed_by_default` declaration) to fit
+  // nevertheless.
   std::vector<std::string> free;
   // If not empty, only these parameters are free (the others keep their starting values):
   // diagnose refits an effect's parameters plus the base law's.
@@ -120,22 +121,6 @@ DataEstimates estimate_from_data(const MeasurementFile& data, const Segmentation
 // Fits; throws InputError for unknown laws, effects or parameter names (listing the valid ones)
 // and for bad fixed values. A fit that fails or stops early is reported in `status`/`warnings`.
 CalibrationResult calibrate(const MeasurementFile& data, const Segmentation& seg, const CalibrationOptions& options);
-
-// The parameters fixed unless freed (documented in the user guide): "law_or_effect.param".
-const std::vector<std::string>& default_fixed_parameters();
-
-// What `rockdem calibrate` and `rockdem diagnose` read from their command lines: the law, the
-// effects as a comma list, a laboratory case (its stages, paths, element settings and, for the
-// same law, its parameters as starting values), --fix NAME=VALUE, --free NAME, --set NAME=VALUE
-// (a value that is not fitted, e.g. dilation=reversible; effect parameters as effect.param).
-struct CalibrationInputs {
-  std::string law, effects, case_file;
-  std::vector<std::string> fix, free, set;
-};
-// Fills `opt` (law, effects, fixes, element settings, stages) from them; notes say what of a case
-// is not used. InputErrors name the option and list what is valid.
-void apply_inputs(const std::string& data_file, const MeasurementFile& data, const CalibrationInputs& in,
-                  CalibrationOptions& opt, std::vector<std::string>& notes);
 
 nlohmann::json to_json(const CalibrationResult& r);
 std::string format_table(const CalibrationResult& r);

@@ -83,9 +83,12 @@ std::array<std::vector<double>, 2> signed_residuals(const MeasurementFile& data,
 // each effect's free ones), not only those refitted in the last step, so that ladder steps compare.
 void count_parameters(CalibrationResult& r, std::size_t law_free, const std::vector<std::string>& chain) {
   std::size_t k = law_free;
-  const auto& fixed = default_fixed_parameters();
-  for (const auto& e : chain)
-    for (const auto& n : effect_params(e)) k += std::find(fixed.begin(), fixed.end(), n) == fixed.end() ? 1 : 0;
+  for (const auto& e : chain) {
+    const auto& entry = EffectRegistry::instance().get(e, "effect", "diagnose");
+    const auto& fixed = entry.declared.fixed_by_default;
+    for (const auto& info : entry.params)
+      if (info.kind == "real") k += std::find(fixed.begin(), fixed.end(), info.name) == fixed.end() ? 1 : 0;
+  }
   const double nd = static_cast<double>(r.n);
   r.k = static_cast<int>(k);
   r.bic = nd * std::log(std::max(r.rss, 1e-300) / nd) + static_cast<double>(k) * std::log(nd);
@@ -103,9 +106,11 @@ nlohmann::json params_json(const CalibrationResult& r) {
 
 }  // namespace
 
-const std::vector<std::string>& non_physical_effects() {
-  static const std::vector<std::string> v{"strength_reduction"};
-  return v;
+std::vector<std::string> non_physical_effects() {
+  std::vector<std::string> out;
+  for (const auto& [name, entry] : EffectRegistry::instance().entries())
+    if (!entry.declared.physical) out.push_back(name);
+  return out;
 }
 
 Covariates row_covariates(const MeasurementFile& data, const Segmentation& seg) {
@@ -201,41 +206,42 @@ std::vector<CovariateScore> score_covariates(const Covariates& cov, const std::a
   return out;
 }
 
-std::string unjudgeable_reason(const std::string& effect, const MeasurementFile& data, const Segmentation& seg) {
-  std::size_t reverse = 0, negative = 0, positive = 0;
+RecordFeatures record_features(const MeasurementFile& data, const Segmentation& seg) {
+  RecordFeatures f;
   for (const auto& l : seg.labels) {
-    reverse += l.direction < 0 ? 1 : 0;
-    negative += (l.quadrant == 3 || l.quadrant == 2) ? 1 : 0;
-    positive += (l.quadrant == 1 || l.quadrant == 4) ? 1 : 0;
+    f.reverse_rows += l.direction < 0 ? 1 : 0;
+    f.negative_side_rows += (l.quadrant == 3 || l.quadrant == 2) ? 1 : 0;
+    f.positive_side_rows += (l.quadrant == 1 || l.quadrant == 4) ? 1 : 0;
   }
-  int strokes = 0;
-  for (const auto& s : seg.stages) strokes += s.cycles;
-  if (effect == "reverse_shear_degradation" || effect == "dilation_recovery") {
-    if (reverse < 5) return "no reverse shearing toward the mated position in the record";
-  } else if (effect == "directional_wear") {
-    if (negative < 5 || positive < 5) return "the joint is sheared on one side of the mated position only (no passage past the origin onto fresh surface)";
-  } else if (effect == "rate_and_state") {
-    const Covariates c = row_covariates(data, seg);
-    std::vector<double> moving;
-    for (double v : c.values[4])
-      if (v > 0.0) moving.push_back(v);
-    const double lo = percentile(moving, 0.1), hi = percentile(moving, 0.9);
-    if (moving.empty() || !(hi > 3.0 * lo)) return "the shear rate hardly varies (a constant-rate test): a rate dependence cannot show";
-  } else if (effect == "two_order_roughness") {
-    if (strokes < 2) return "a single stroke: the slow first-order wear over repeated shearing cannot be told from the second-order peak";
-  } else if (effect == "hyperbolic_normal_closure") {
-    bool varies = false;
-    for (const auto& s : seg.stages) {
-      double lo = kInf, hi = -kInf;
-      for (std::size_t i = s.begin; i < s.end; ++i) {
-        lo = std::min(lo, data.rows[i].normal_stress_MPa);
-        hi = std::max(hi, data.rows[i].normal_stress_MPa);
-      }
-      varies = varies || (hi - lo) > 0.1 * std::max(std::abs(s.normal_stress_MPa), 1e-3);
+  for (const auto& s : seg.stages) f.cycles += s.cycles;
+  const Covariates c = row_covariates(data, seg);
+  std::vector<double> moving;
+  for (double v : c.values[4])
+    if (v > 0.0) moving.push_back(v);
+  f.rate_low = percentile(moving, 0.1);
+  f.rate_high = percentile(moving, 0.9);
+  for (const auto& s : seg.stages) {
+    RecordFeatures::Stage st;
+    st.normal_stress_MPa = s.normal_stress_MPa;
+    st.min_normal_stress_MPa = kInf;
+    st.max_normal_stress_MPa = -kInf;
+    for (std::size_t i = s.begin; i < s.end; ++i) {
+      st.min_normal_stress_MPa = std::min(st.min_normal_stress_MPa, data.rows[i].normal_stress_MPa);
+      st.max_normal_stress_MPa = std::max(st.max_normal_stress_MPa, data.rows[i].normal_stress_MPa);
     }
-    if (!varies) return "the normal stress is constant within each stage and the normal displacement is measured from each stage's start, so the closure curve never shows";
+    f.stages.push_back(st);
   }
-  return {};
+  return f;
+}
+
+std::string unjudgeable_reason(const std::string& effect, const RecordFeatures& features) {
+  const auto* entry = EffectRegistry::instance().find(effect);
+  if (!entry || !entry->declared.unjudgeable) return {};
+  return entry->declared.unjudgeable(features);
+}
+
+std::string unjudgeable_reason(const std::string& effect, const MeasurementFile& data, const Segmentation& seg) {
+  return unjudgeable_reason(effect, record_features(data, seg));
 }
 
 Diagnosis diagnose(const MeasurementFile& data, const Segmentation& seg, const DiagnosisOptions& options) {
@@ -266,11 +272,10 @@ Diagnosis diagnose(const MeasurementFile& data, const Segmentation& seg, const D
   // 4. Every effect, added alone and refitted with the base law's free parameters (warm start).
   std::vector<std::string> effects = options.effects;
   if (effects.empty()) {
-    for (const auto& n : EffectRegistry::instance().names()) {
-      const auto& skip = non_physical_effects();
-      if (std::find(skip.begin(), skip.end(), n) == skip.end()) effects.push_back(n);
-    }
+    for (const auto& [name, entry] : EffectRegistry::instance().entries())
+      if (entry.declared.physical) effects.push_back(name);
   }
+  const RecordFeatures features = record_features(data, seg);
   const std::vector<std::string> law_free = free_names(d.baseline, d.law);
   auto options_for = [&](const std::vector<std::string>& chain, const CalibrationResult& from, int threads) {
     CalibrationOptions o = options.base;
@@ -293,7 +298,7 @@ Diagnosis diagnose(const MeasurementFile& data, const Segmentation& seg, const D
   for_each_parallel(effects.size(), outer, [&](std::size_t i) {
     EffectTrial& t = d.ranking[i];
     t.effect = effects[i];
-    t.reason = unjudgeable_reason(t.effect, data, seg);
+    t.reason = unjudgeable_reason(t.effect, features);
     t.judged = t.reason.empty() && !short_record;
     if (short_record && t.reason.empty()) t.reason = "the record is too short";
     if (!t.judged && !options.fit_unjudged) return;

@@ -6,19 +6,21 @@
 //      cycle, velocity, normal_stress, fresh_surface): the score is the adjusted correlation ratio
 //      eta^2 of the residual binned on the covariate (Fisher's eta^2, corrected for the number of
 //      bins like an adjusted R^2), i.e. the share of the residual's variance its bin means explain;
-//   4. for every effect of the EffectRegistry (but those that are not physical, see
-//      non_physical_effects()), add it, recalibrate it with the base law (warm start), and rank by
+//   4. for every effect of the EffectRegistry (but those that declare themselves not physical,
+//      see non_physical_effects()), add it, recalibrate it with the base law (warm start), and rank by
 //      BIC = n ln(RSS/n) + k ln(n) (Schwarz 1978), n = compared residuals, k = free parameters;
 //      then climb a ladder: add the best effect while the BIC falls;
 //   5. JSON (to_json) and, with a report folder, the files plotted by scripts/plot_diagnosis.py.
-// Effects that the record cannot reveal (no reverse shearing, one side only, one rate, ...) are
-// named with the reason and kept out of the ladder. docs/user-guide-calibrate-diagnose.md.
+// Effects that the record cannot reveal (no reverse shearing, one side only, one rate, ...; each
+// effect says so itself from the record's features) are named with the reason and kept out of
+// the ladder. docs/user-guide-calibrate-diagnose.md.
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "framework/analysis/calibration.hpp"
+#include "framework/plugin_api/record_features.hpp"
 
 namespace rockdem {
 
@@ -48,11 +50,17 @@ struct CovariateScore {
 std::vector<CovariateScore> score_covariates(const Covariates& cov, const std::array<std::vector<double>, 2>& residual,
                                              int bins = 10);
 
-// Effects of the registry that are not physical and never tried (strength_reduction: a factor of
-// safety device that scales the strength).
-const std::vector<std::string>& non_physical_effects();
+// Effects of the registry that declare themselves not physical (`physical = false`, e.g.
+// strength_reduction: a factor of safety device that scales the strength): never tried.
+std::vector<std::string> non_physical_effects();
 
-// Why a record cannot reveal an effect ("" if it can): a rule per catalogue effect (docs).
+// What the record shows that decides whether an effect can be revealed by it (plugin_api's
+// neutral description, so that effects can judge it without seeing records).
+RecordFeatures record_features(const MeasurementFile& data, const Segmentation& seg);
+
+// Why a record cannot reveal an effect ("" if it can, or if the effect declares no rule or is
+// unknown): the effect's own `unjudgeable` declaration (framework/plugin_api/effect.hpp).
+std::string unjudgeable_reason(const std::string& effect, const RecordFeatures& features);
 std::string unjudgeable_reason(const std::string& effect, const MeasurementFile& data, const Segmentation& seg);
 
 struct EffectTrial {

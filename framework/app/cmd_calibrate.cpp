@@ -8,6 +8,7 @@
 #include <memory>
 
 #include "framework/analysis/calibration.hpp"
+#include "framework/app/calibration_inputs.hpp"
 #include "framework/app/command.hpp"
 #include "framework/core/error.hpp"
 #include "framework/plugin_api/joint_law.hpp"

@@ -11,6 +11,7 @@
 #include <memory>
 
 #include "framework/analysis/diagnosis.hpp"
+#include "framework/app/calibration_inputs.hpp"
 #include "framework/app/command.hpp"
 #include "framework/app/plot_scripts.hpp"
 #include "framework/core/error.hpp"

@@ -2,6 +2,9 @@
 // Name -> factory registries for joint laws, effects and rock materials. Each object registers
 // itself in its own source file with a static Registrar, so adding one touches no central list.
 // Registries are function-local statics (no global mutable state visible to physics code).
+// Besides the factory, an entry carries what a kind of product declares about itself for the
+// tools that use it (`Declarations`, e.g. which parameters calibration keeps fixed), so that
+// those tools keep no list of names either.
 #include <functional>
 #include <map>
 #include <memory>
@@ -16,7 +19,10 @@
 
 namespace rockdem {
 
-template <class Product>
+// A product that declares nothing beyond its parameters.
+struct NoDeclarations {};
+
+template <class Product, class Declarations = NoDeclarations>
 class Registry {
  public:
   struct Entry {
@@ -25,6 +31,7 @@ class Registry {
     std::string reference;
     std::vector<ParamInfo> params;
     std::function<std::unique_ptr<Product>(const RawValues&, const std::string& where)> make;
+    Declarations declared{};
   };
 
   static Registry& instance() {

@@ -13,7 +13,14 @@
 //     static double normal_tangent(const Params&, double v);
 //   };
 //   ROCKDEM_REGISTER_EFFECT(MyEffect, "summary", "reference");
+// Optionally, what `rockdem calibrate` and `rockdem diagnose` should know of it (absent: the
+// default in brackets):
+//     static constexpr bool physical = false;              // [true] in diagnose's catalogue?
+//     static std::vector<std::string> fixed_by_default();  // [none] parameters kept fixed unless freed
+//     static std::string unjudgeable(const RecordFeatures&); // [any record can reveal it] why a
+//                                                         // record cannot reveal it, "" if it can
 // An effect with enabled = false must leave the base law's results identical, bit for bit.
+#include <concepts>
 #include <cstring>
 
 #include "framework/plugin_api/joint_law.hpp"
@@ -81,6 +88,11 @@ struct EffectRegistrar {
       return std::make_unique<EffectAdapter<Effect>>(
           bind_params<typename Effect::Params>(v, std::string("effect '") + Effect::name + "'", where));
     };
+    e.declared.fixed_by_default = declared_fixed_by_default<Effect>();
+    if constexpr (requires { { Effect::physical } -> std::convertible_to<bool>; }) e.declared.physical = Effect::physical;
+    if constexpr (requires(const RecordFeatures& f) { { Effect::unjudgeable(f) } -> std::convertible_to<std::string>; }) {
+      e.declared.unjudgeable = [](const RecordFeatures& f) -> std::string { return Effect::unjudgeable(f); };
+    }
     EffectRegistry::instance().add(std::move(e));
   }
 };

@@ -15,7 +15,10 @@
 //                        EffectChain&);                     // call chain.modify(ctx) once
 //   };
 //   ROCKDEM_REGISTER_JOINT_LAW(MyLaw, "summary", "reference");
+// Optionally, what `rockdem calibrate` should know of it:
+//     static std::vector<std::string> fixed_by_default();  // parameters kept fixed unless freed
 #include <array>
+#include <concepts>
 #include <cstddef>
 #include <cstring>
 #include <memory>
@@ -24,6 +27,7 @@
 #include <vector>
 
 #include "framework/core/registry.hpp"
+#include "framework/plugin_api/record_features.hpp"
 
 namespace rockdem {
 
@@ -176,8 +180,36 @@ class JointLawAdapter final : public JointLawBase {
   Params p_;
 };
 
-using JointLawRegistry = Registry<JointLawBase>;
-using EffectRegistry = Registry<EffectBase>;
+// What a law or an effect declares for calibration, in its own file (optional; the defaults are
+// what a plug-in that declares nothing gets).
+struct CalibrationDeclarations {
+  // Real parameters (unqualified names, of the plug-in's own Params) that `rockdem calibrate`
+  // keeps at their written or default value unless freed: those a shear record cannot identify.
+  std::vector<std::string> fixed_by_default;
+};
+// An effect declares besides what `rockdem diagnose` needs to try it.
+struct EffectDeclarations : CalibrationDeclarations {
+  // false: not a physical effect of rock joints (a modelling device such as a strength
+  // reduction factor); diagnose leaves it out of its catalogue.
+  bool physical = true;
+  // Why a record cannot reveal the effect ("" if it can); null: any record can.
+  std::string (*unjudgeable)(const RecordFeatures&) = nullptr;
+};
+
+using JointLawRegistry = Registry<JointLawBase, CalibrationDeclarations>;
+using EffectRegistry = Registry<EffectBase, EffectDeclarations>;
+
+namespace detail {
+// A law's or effect's `static std::vector<std::string> fixed_by_default()`, if it has one.
+template <class T>
+std::vector<std::string> declared_fixed_by_default() {
+  if constexpr (requires { { T::fixed_by_default() } -> std::convertible_to<std::vector<std::string>>; }) {
+    return T::fixed_by_default();
+  } else {
+    return {};
+  }
+}
+}  // namespace detail
 
 // A base law with its ordered effects: what a contact (or the element driver) actually calls.
 class JointModel {
@@ -227,6 +259,7 @@ struct JointLawRegistrar {
       return std::make_unique<JointLawAdapter<Law>>(
           bind_params<typename Law::Params>(v, std::string("joint law '") + Law::name + "'", where));
     };
+    e.declared.fixed_by_default = declared_fixed_by_default<Law>();
     JointLawRegistry::instance().add(std::move(e));
   }
 };

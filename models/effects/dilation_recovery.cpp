@@ -49,6 +49,7 @@ struct DilationRecovery {
     bool returning;
   };
   static void init(const Params&, State& s) { s = State{}; }
+  static std::string unjudgeable(const RecordFeatures& f) { return reason_without_reverse_shearing(f); }
   static void modify(const Params& p, State& s, ShearContext& ctx) {
     if (ctx.du_s == 0.0) return;  // a pause changes nothing
     if (!ctx.toward_origin) {

@@ -64,6 +64,14 @@ struct DirectionalWear {
     s = State{};
     s.last_bin = -1;
   }
+  // The extent is the discretisation's reach, not a property of the joint.
+  static std::vector<std::string> fixed_by_default() { return {"extent"}; }
+  static std::string unjudgeable(const RecordFeatures& f) {
+    if (f.negative_side_rows < 5 || f.positive_side_rows < 5) {
+      return "the joint is sheared on one side of the mated position only (no passage past the origin onto fresh surface)";
+    }
+    return {};
+  }
   static void modify(const Params& p, State& s, ShearContext& ctx) {
     // The wear the law gained in the last update belongs to where that increment climbed.
     const double gained = ctx.plastic_slip - s.last_slip;

@@ -7,6 +7,7 @@
 // normal-response hook: the law keeps its shear rules and applies its increments of closure
 // (opening, dilation under constrained normal displacement) on this curve. A tensile stress
 // (Mohr-Coulomb's tensile strength) uses the initial stiffness Kni. Shear strength is untouched.
+#include <algorithm>
 #include <cmath>
 
 #include "framework/plugin_api/effect.hpp"
@@ -38,6 +39,18 @@ struct HyperbolicNormalClosure {
   };
   struct State {};  // the curve is elastic: closure is a function of the normal stress
   static void init(const Params&, State&) {}
+  static std::string unjudgeable(const RecordFeatures& f) {
+    bool varies = false;
+    for (const auto& s : f.stages) {
+      const double spread = s.max_normal_stress_MPa - s.min_normal_stress_MPa;
+      varies = varies || spread > 0.1 * std::max(std::abs(s.normal_stress_MPa), 1e-3);
+    }
+    if (!varies) {
+      return "the normal stress is constant within each stage and the normal displacement is measured from each "
+             "stage's start, so the closure curve never shows";
+    }
+    return {};
+  }
   static void modify(const Params&, State&, ShearContext&) {}
   static void after(const Params&, State&, const ShearContext&, const JointResponse&) {}
   static double normal_stress(const Params& p, double v) {

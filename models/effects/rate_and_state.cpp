@@ -61,6 +61,13 @@ struct RateAndState {
     double theta;  // state variable [s]
   };
   static void init(const Params& p, State& s) { s.theta = p.dc / p.v0; }
+  // V0 is the rate the base law was calibrated at, a reference chosen, not fitted (it trades off
+  // with the base law's friction).
+  static std::vector<std::string> fixed_by_default() { return {"reference_velocity"}; }
+  static std::string unjudgeable(const RecordFeatures& f) {
+    if (!(f.rate_high > 3.0 * f.rate_low)) return "the shear rate hardly varies (a constant-rate test): a rate dependence cannot show";
+    return {};
+  }
   static void modify(const Params& p, State& s, ShearContext& ctx) {
     if (!(ctx.dt > 0.0)) {
       s.theta = p.dc / p.v0;

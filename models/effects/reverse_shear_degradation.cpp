@@ -36,6 +36,7 @@ struct ReverseShearDegradation {
   };
   struct State {};  // the rule depends only on the current direction and the base law's angles
   static void init(const Params&, State&) {}
+  static std::string unjudgeable(const RecordFeatures& f) { return reason_without_reverse_shearing(f); }
   static void modify(const Params& p, State&, ShearContext& ctx) {
     if (!ctx.toward_origin || !(ctx.sigma_n > 0.0)) return;
     const double angle = std::max(0.0, ctx.basic_friction - p.weight * ctx.roughness_angle);

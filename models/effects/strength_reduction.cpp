@@ -28,6 +28,8 @@ struct StrengthReduction {
   static void init(const Params&, State&) {}
   static void modify(const Params& p, State&, ShearContext& ctx) { ctx.strength /= p.factor; }
   static void after(const Params&, State&, const ShearContext&, const JointResponse&) {}
+  // A factor-of-safety device, not something a joint does: diagnose never proposes it.
+  static constexpr bool physical = false;
 };
 
 }  // namespace rockdem

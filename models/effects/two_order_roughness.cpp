@@ -58,6 +58,10 @@ struct TwoOrderRoughness {
     double work;        // W: plastic work dissipated [J/m^2]
   };
   static void init(const Params&, State& s) { s = State{}; }
+  static std::string unjudgeable(const RecordFeatures& f) {
+    if (f.cycles < 2) return "a single stroke: the slow first-order wear over repeated shearing cannot be told from the second-order peak";
+    return {};
+  }
   static void modify(const Params& p, State& s, ShearContext& ctx) {
     if (!(ctx.sigma_n > 0.0)) return;
     const double alpha = std::atan(ctx.strength / ctx.sigma_n);

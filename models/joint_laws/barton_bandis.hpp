@@ -48,6 +48,14 @@ struct BartonBandis {
                      EffectChain& chain);
   static double initial_kn(const Params& p);
   static double initial_ks(const Params& p) { return p.ks; }
+  // Kept fixed by `rockdem calibrate` unless freed: the normal stiffness and the Bandis closure
+  // constants (a constant-normal-stress record never shows the closure), JCS and UCS (index
+  // properties measured on their own; JCS trades off with JRC), the specimen lengths, and u_cs
+  // (infinite unless written).
+  static std::vector<std::string> fixed_by_default() {
+    return {"kn", "jcs", "ucs", "lab_length", "field_length", "critical_shear_disp", "initial_normal_stiffness",
+            "max_closure"};
+  }
 };
 
 }  // namespace rockdem

@@ -40,6 +40,13 @@ struct ContinuouslyYielding {
                      EffectChain& chain);
   static double initial_kn(const Params& p) { return normal_stiffness(p, 0.0); }
   static double initial_ks(const Params& p) { return shear_stiffness(p, 0.0); }
+  // Kept fixed by `rockdem calibrate` unless freed: the normal stiffness (a constant-normal-stress
+  // record never shows the closure), the stiffness power laws' exponents, clamps and stress unit
+  // (a few normal stresses cannot resolve them), and u_cs (infinite unless written).
+  static std::vector<std::string> fixed_by_default() {
+    return {"kn", "kn_min", "kn_max", "kn_exponent", "ks_min", "ks_max", "ks_exponent", "reference_stress",
+            "critical_shear_disp"};
+  }
 };
 
 }  // namespace rockdem

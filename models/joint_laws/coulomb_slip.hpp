@@ -26,6 +26,8 @@ struct CoulombSlip {
   }
   static double initial_kn(const Params& p) { return p.kn; }
   static double initial_ks(const Params& p) { return p.ks; }
+  // As mohr_coulomb's (which has u_cs besides).
+  static std::vector<std::string> fixed_by_default() { return {"kn", "cohesion", "tension"}; }
 };
 
 }  // namespace rockdem

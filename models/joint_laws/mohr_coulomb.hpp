@@ -35,6 +35,11 @@ struct MohrCoulomb {
                      EffectChain& chain);
   static double initial_kn(const Params& p) { return p.kn; }
   static double initial_ks(const Params& p) { return p.ks; }
+  // Kept fixed by `rockdem calibrate` unless freed: a shear record at constant normal stress
+  // measures the normal displacement from each stage's start, so kn never shows; cohesion and
+  // tensile strength trade off with the friction angle over a few normal stresses; u_cs is
+  // infinite unless written.
+  static std::vector<std::string> fixed_by_default() { return {"kn", "cohesion", "tension", "critical_shear_disp"}; }
 };
 
 }  // namespace rockdem

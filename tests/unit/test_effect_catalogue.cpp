@@ -3,6 +3,7 @@
 // them with documented parameters.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "tests/unit/effect_test_util.hpp"
@@ -53,4 +54,21 @@ TEST(EffectCatalogue, RegisteredWithDocumentedParameters) {
       EXPECT_FALSE(p.required()) << name << "." << p.name << " has no default";
     }
   }
+}
+
+// Each law and effect names in its own file the parameters calibrate keeps fixed; a misspelt
+// name would silently leave the parameter free, so every declared name must be one of its own
+// real parameters.
+TEST(EffectCatalogue, FixedByDefaultNamesRealParameters) {
+  auto check = [](const auto& registry, const char* what) {
+    for (const auto& [name, entry] : registry.entries()) {
+      for (const auto& fixed : entry.declared.fixed_by_default) {
+        const bool real = std::any_of(entry.params.begin(), entry.params.end(),
+                                      [&](const ParamInfo& p) { return p.name == fixed && p.kind == "real"; });
+        EXPECT_TRUE(real) << what << " " << name << " declares '" << fixed << "' fixed by default, not a real parameter of it";
+      }
+    }
+  };
+  check(JointLawRegistry::instance(), "law");
+  check(EffectRegistry::instance(), "effect");
 }

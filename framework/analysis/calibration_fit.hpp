@@ -1,0 +1,125 @@
+#pragma once
+// The fit behind calibrate() (framework/analysis/calibration.hpp), shared by the files that make
+// it up: the parameters as slots with their bounds and [0, 1] maps, the residuals of a model
+// against the record, their forward-difference Jacobian, the Ceres solve (calibration_fit.cpp)
+// and the standard errors; the slots' starting values (calibration_start.cpp). Internal to the
+// analysis layer.
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <cmath>
+#include <map>
+#include <memory>
+#include <numbers>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <ceres/ceres.h>
+#include <Eigen/Dense>
+
+#include "framework/analysis/calibration.hpp"
+#include "framework/plugin_api/joint_law.hpp"
+
+namespace rockdem::calibration_detail {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+// One real parameter of the law or of an effect.
+struct Slot {
+  ParamInfo info;
+  std::string name;   // qualified: "ks" or "effect.param"
+  std::string owner;  // law or effect name
+  int effect = -1;    // index into the effect list, -1: the law
+  bool free = false, log_scale = false;
+  double lower = 0.0, upper = 0.0, value = 0.0, start = 0.0;
+  bool given = false;  // written in law_values/effect_values
+};
+
+// Dimensions whose plausible values span decades: their free parameters move on a log scale.
+bool log_dimension(Dimension d);
+
+// Physical ranges where the registry's are infinite or wider than any rock joint needs.
+std::pair<double, double> physical_range(Dimension d);
+
+// The residual machinery shared by the fit, the Jacobian and the final evaluation.
+class Evaluator {
+ public:
+  Evaluator(const MeasurementFile& data, const Segmentation& seg, const CalibrationOptions& opt,
+            std::vector<Slot> slots, std::vector<std::size_t> free, std::vector<ElementStage> stages);
+
+  std::size_t k() const { return free_.size(); }
+  std::size_t n() const {
+    std::size_t n = 0;
+    for (std::size_t v = 0; v < 2; ++v)
+      if (range_[v] > 0.0) n += data_.rows.size();
+    return n;
+  }
+  const std::vector<Slot>& slots() const { return slots_; }
+  const std::vector<std::size_t>& free() const { return free_; }
+  long evaluations() const { return evaluations_.load(); }
+
+  double to_si(std::size_t j, double x) const {
+    const Slot& s = slots_[free_[j]];
+    x = std::clamp(x, 0.0, 1.0);
+    return s.log_scale ? std::exp(std::log(s.lower) + x * (std::log(s.upper) - std::log(s.lower)))
+                       : s.lower + x * (s.upper - s.lower);
+  }
+  double to_unit(std::size_t j, double v) const {
+    const Slot& s = slots_[free_[j]];
+    const double x = s.log_scale ? (std::log(v) - std::log(s.lower)) / (std::log(s.upper) - std::log(s.lower))
+                                 : (v - s.lower) / (s.upper - s.lower);
+    return std::clamp(x, 0.0, 1.0);
+  }
+  double dsi_dx(std::size_t j, double x) const {
+    const Slot& s = slots_[free_[j]];
+    return s.log_scale ? to_si(j, x) * (std::log(s.upper) - std::log(s.lower)) : s.upper - s.lower;
+  }
+
+  std::vector<double> values(const double* x) const {
+    std::vector<double> v(slots_.size());
+    for (std::size_t i = 0; i < slots_.size(); ++i) v[i] = slots_[i].value;
+    for (std::size_t j = 0; j < free_.size(); ++j) v[free_[j]] = to_si(j, x[j]);
+    return v;
+  }
+
+  std::unique_ptr<JointModel> build(const std::vector<double>& v) const;
+  MeasurementFile run(const JointModel& model, double step) const;
+  // Range-normalised residuals (model - measured) of every compared row; false if the model
+  // cannot be built or run, or its record cannot be compared.
+  bool residuals(const double* x, double step, std::vector<double>& r, Comparison* out = nullptr,
+                 MeasurementFile* record = nullptr, std::string* why = nullptr) const;
+  // Forward-difference Jacobian in the [0, 1] space, columns in parallel.
+  bool jacobian(const double* x, const std::vector<double>& r0, double step, Eigen::MatrixXd& J) const;
+
+ private:
+  const MeasurementFile& data_;
+  const Segmentation& seg_;
+  const CalibrationOptions& opt_;
+  std::vector<Slot> slots_;
+  std::vector<std::size_t> free_;
+  std::vector<ElementStage> stages_;
+  std::array<double, 2> range_{};
+  mutable std::atomic<long> evaluations_{0};
+};
+
+// Bounds (the registry's tightened to physical ones), scales and starting values of every
+// parameter: warm start > written values > estimates from the data > defaults
+// (calibration_start.cpp). InputError for a parameter that has none.
+void set_bounds_and_starts(std::vector<Slot>& slots, const MeasurementFile& data, const Segmentation& seg,
+                           const CalibrationOptions& options, const std::map<std::string, double>& fix,
+                           std::vector<std::string>& warnings);
+
+// Bounded Levenberg-Marquardt in the [0, 1] space from x (updated to the optimum) at the given
+// driver step, one residual block per compared row under the soft-L1 loss (loss_scale 0: plain
+// least squares); adds the iterations it took.
+ceres::Solver::Summary solve(const Evaluator& ev, std::vector<double>& x, double step, int max_iterations, double loss_scale,
+                             std::atomic<int>& iterations);
+
+// Standard errors in the [0, 1] space from the Jacobian at the optimum x (residuals r at the
+// driver step): Cov = (J^T J)^-1 s^2, s^2 = RSS/(n - k) from `res`; infinite where the record does
+// not constrain the parameter, all infinite (and a warning in `res`) if the Jacobian fails.
+Eigen::VectorXd unit_standard_errors(const Evaluator& ev, const std::vector<double>& x, const std::vector<double>& r,
+                                     double step, CalibrationResult& res);
+
+}  // namespace rockdem::calibration_detail
