@@ -17,6 +17,7 @@
 
 #include "framework/analysis/calibration_fit.hpp"
 #include "framework/core/error.hpp"
+#include "framework/core/names.hpp"
 #include "framework/plugin_api/joint_law.hpp"
 
 namespace rockdem {
@@ -24,12 +25,6 @@ namespace {
 
 using calibration_detail::Evaluator;
 using calibration_detail::Slot;
-
-std::string join(const std::vector<std::string>& v) {
-  std::string s;
-  for (const auto& x : v) s += (s.empty() ? "" : ", ") + x;
-  return s;
-}
 
 std::array<double, 3> nrmse_of(const Comparison& c) {
   return {c.overall.var[0].nrmse, c.overall.var[1].nrmse, c.combined_nrmse};
@@ -85,7 +80,7 @@ Slot& find_slot(std::vector<Slot>& slots, const std::string& name, const std::st
   throw InputError(what + ": unknown parameter '" + name + "'" +
                    (matches > 1 ? " (several effects have it: write effect.param)" : "") +
                    "; real parameters of " + options.law +
-                   (options.effects.empty() ? "" : " + " + join(options.effects)) + ": " + join(names));
+                   (options.effects.empty() ? "" : " + " + join_names(options.effects)) + ": " + join_names(names));
 }
 
 // Which are free: real parameters not fixed by default (or freed), not fixed by the user.
