@@ -244,41 +244,58 @@ std::string unjudgeable_reason(const std::string& effect, const MeasurementFile&
   return unjudgeable_reason(effect, record_features(data, seg));
 }
 
-Diagnosis diagnose(const MeasurementFile& data, const Segmentation& seg, const DiagnosisOptions& options) {
-  const auto t0 = std::chrono::steady_clock::now();
-  Diagnosis d;
-  d.law = options.base.law;
-  std::size_t moving_segments = 0;
-  for (const auto& s : seg.segments) moving_segments += s.motion != 0 ? 1 : 0;
-  const bool short_record = data.rows.size() < 50 || moving_segments < 2;
-  if (short_record) {
-    d.warnings.push_back("the record is short (" + std::to_string(data.rows.size()) + " rows, " +
-                         std::to_string(moving_segments) + " shear stroke(s)): effects cannot be told apart; no confident answer");
-    d.confident = false;
+namespace {
+
+// One diagnosis, step by step: the base law, the residual's covariates, every effect tried alone,
+// the ranking, then the ladder of added effects. The steps share the record, the options and the
+// base law's free parameters, so they are members of one object rather than arguments.
+class DiagnosisRun {
+ public:
+  DiagnosisRun(const MeasurementFile& data, const Segmentation& seg, const DiagnosisOptions& options)
+      : data_(data), seg_(seg), options_(options) {}
+
+  Diagnosis run() {
+    const auto t0 = std::chrono::steady_clock::now();
+    d_.law = options_.base.law;
+    check_record_length();
+    fit_baseline();
+    // Covariates of the baseline's residual.
+    d_.covariates = score_covariates(row_covariates(data_, seg_), signed_residuals(data_, seg_, d_.baseline.comparison),
+                                     options_.bins);
+    try_each_effect();
+    mark_insensitive_effects();
+    rank_effects();
+    climb_ladder();
+    d_.wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    return std::move(d_);
   }
 
-  // 1. The base law.
-  CalibrationOptions base = options.base;
-  base.effects.clear();
-  base.threads = options.threads;
-  base.starts = 2;
-  d.baseline = calibrate(data, seg, base);
-  for (const auto& w : d.baseline.warnings) d.warnings.push_back("baseline: " + w);
-
-  // 3. Covariates of the baseline's residual.
-  const Covariates cov = row_covariates(data, seg);
-  d.covariates = score_covariates(cov, signed_residuals(data, seg, d.baseline.comparison), options.bins);
-
-  // 4. Every effect, added alone and refitted with the base law's free parameters (warm start).
-  std::vector<std::string> effects = options.effects;
-  if (effects.empty()) {
-    for (const auto& [name, entry] : EffectRegistry::instance().entries())
-      if (entry.declared.physical) effects.push_back(name);
+ private:
+  void check_record_length() {
+    std::size_t moving_segments = 0;
+    for (const auto& s : seg_.segments) moving_segments += s.motion != 0 ? 1 : 0;
+    short_record_ = data_.rows.size() < 50 || moving_segments < 2;
+    if (short_record_) {
+      d_.warnings.push_back("the record is short (" + std::to_string(data_.rows.size()) + " rows, " +
+                            std::to_string(moving_segments) + " shear stroke(s)): effects cannot be told apart; no confident answer");
+      d_.confident = false;
+    }
   }
-  const RecordFeatures features = record_features(data, seg);
-  const std::vector<std::string> law_free = free_names(d.baseline, d.law);
-  auto options_for = [&](const std::vector<std::string>& chain, const CalibrationResult& from, int threads) {
-    CalibrationOptions o = options.base;
+
+  void fit_baseline() {
+    CalibrationOptions base = options_.base;
+    base.effects.clear();
+    base.threads = options_.threads;
+    base.starts = 2;
+    d_.baseline = calibrate(data_, seg_, base);
+    for (const auto& w : d_.baseline.warnings) d_.warnings.push_back("baseline: " + w);
+    law_free_ = free_names(d_.baseline, d_.law);
+  }
+
+  // Calibration options for the base law with `chain` of effects, started from `from`'s values;
+  // only the base law's free parameters and the last effect's are fitted.
+  CalibrationOptions options_for(const std::vector<std::string>& chain, const CalibrationResult& from, int threads) const {
+    CalibrationOptions o = options_.base;
     o.effects = chain;
     o.threads = threads;
     // Effect fits stay at the fitting step (no fine-step polish): their NRMSE and BIC are still
@@ -286,38 +303,52 @@ Diagnosis diagnose(const MeasurementFile& data, const Segmentation& seg, const D
     o.polish = false;
     for (const auto& p : from.params)
       if (std::isfinite(p.value)) o.start[p.name] = p.value;
-    for (const auto& [k, v] : options.base.fix) o.start.erase(k);
-    o.only_free = law_free;
+    for (const auto& [k, v] : options_.base.fix) o.start.erase(k);
+    o.only_free = law_free_;
     for (const auto& n : effect_params(chain.back())) o.only_free.push_back(n);
     return o;
-  };
-  // Two effects at a time on two cores, each fit single-threaded (nested threads would oversubscribe).
-  const int outer = std::max(1, std::min<int>(options.threads, static_cast<int>(effects.size())));
-  const int inner = std::max(1, options.threads / outer);
-  d.ranking.resize(effects.size());
-  for_each_parallel(effects.size(), outer, [&](std::size_t i) {
-    EffectTrial& t = d.ranking[i];
-    t.effect = effects[i];
-    t.reason = unjudgeable_reason(t.effect, features);
-    t.judged = t.reason.empty() && !short_record;
-    if (short_record && t.reason.empty()) t.reason = "the record is too short";
-    if (!t.judged && !options.fit_unjudged) return;
+  }
+
+  // Every effect, added alone and refitted with the base law's free parameters.
+  void try_each_effect() {
+    std::vector<std::string> effects = options_.effects;
+    if (effects.empty()) {
+      for (const auto& [name, entry] : EffectRegistry::instance().entries())
+        if (entry.declared.physical) effects.push_back(name);
+    }
+    const RecordFeatures features = record_features(data_, seg_);
+    // Two effects at a time on two cores, each fit single-threaded (nested threads would oversubscribe).
+    const int outer = std::max(1, std::min<int>(options_.threads, static_cast<int>(effects.size())));
+    const int inner = std::max(1, options_.threads / outer);
+    d_.ranking.resize(effects.size());
+    for_each_parallel(effects.size(), outer, [&](std::size_t i) {
+      EffectTrial& t = d_.ranking[i];
+      t.effect = effects[i];
+      t.reason = unjudgeable_reason(t.effect, features);
+      t.judged = t.reason.empty() && !short_record_;
+      if (short_record_ && t.reason.empty()) t.reason = "the record is too short";
+      if (!t.judged && !options_.fit_unjudged) return;
+      fit_trial(t, inner);
+    });
+  }
+
+  void fit_trial(EffectTrial& t, int threads) const {
     try {
       // Two starts: warm (the baseline's values, which may have bent to make up for the missing
       // effect) and cold (the data estimates); the lower BIC wins.
-      const CalibrationOptions warm = options_for({t.effect}, d.baseline, inner);
+      const CalibrationOptions warm = options_for({t.effect}, d_.baseline, threads);
       CalibrationOptions cold = warm;
       cold.start.clear();
-      t.fit = calibrate(data, seg, warm);
+      t.fit = calibrate(data_, seg_, warm);
       try {
-        CalibrationResult other = calibrate(data, seg, cold);
+        CalibrationResult other = calibrate(data_, seg_, cold);
         if (other.rss < t.fit.rss) t.fit = std::move(other);
       } catch (const std::exception&) {
         // the warm start's fit stands
       }
-      count_parameters(t.fit, law_free.size(), {t.effect});
-      t.delta_bic = t.fit.bic - d.baseline.bic;
-      t.fitted = t.fit.status != "failed" || t.fit.rss < d.baseline.rss;
+      count_parameters(t.fit, law_free_.size(), {t.effect});
+      t.delta_bic = t.fit.bic - d_.baseline.bic;
+      t.fitted = t.fit.status != "failed" || t.fit.rss < d_.baseline.rss;
       if (!t.fitted) {
         t.failed = true;
         t.judged = false;
@@ -328,67 +359,80 @@ Diagnosis diagnose(const MeasurementFile& data, const Segmentation& seg, const D
       t.judged = false;
       t.reason = std::string("fit failed: ") + e.what();
     }
-  });
+  }
+
   // An effect none of whose parameters changes the model on this record (and that did not lower
   // the error) cannot be judged either.
-  for (auto& t : d.ranking) {
-    if (!t.fitted || !t.judged) continue;
-    bool any_free = false, any_sensitive = false;
-    for (const auto& p : t.fit.params) {
-      if (p.owner != t.effect || !p.free) continue;
-      any_free = true;
-      any_sensitive = any_sensitive || std::isfinite(p.se);
-    }
-    if (any_free && !any_sensitive && !(t.fit.rss < 0.999 * d.baseline.rss)) {
-      t.judged = false;
-      t.reason = "its parameters do not change the model on this record";
-    }
-  }
-  std::stable_sort(d.ranking.begin(), d.ranking.end(), [](const EffectTrial& a, const EffectTrial& b) {
-    const bool ja = a.judged && !a.failed, jb = b.judged && !b.failed;
-    if (ja != jb) return ja;
-    if (a.fitted != b.fitted) return a.fitted;
-    return a.fitted && a.fit.bic < b.fit.bic;
-  });
-  std::vector<std::string> unjudged;
-  for (const auto& t : d.ranking) {
-    if (t.failed) {
-      d.warnings.push_back("effect " + t.effect + ": " + t.reason);
-    } else if (!t.judged) {
-      unjudged.push_back(t.effect);
-      d.warnings.push_back("effect " + t.effect + " cannot be judged from this record: " + t.reason);
-    } else {
-      for (const auto& w : t.fit.warnings) d.warnings.push_back("effect " + t.effect + ": " + w);
+  void mark_insensitive_effects() {
+    for (auto& t : d_.ranking) {
+      if (!t.fitted || !t.judged) continue;
+      bool any_free = false, any_sensitive = false;
+      for (const auto& p : t.fit.params) {
+        if (p.owner != t.effect || !p.free) continue;
+        any_free = true;
+        any_sensitive = any_sensitive || std::isfinite(p.se);
+      }
+      if (any_free && !any_sensitive && !(t.fit.rss < 0.999 * d_.baseline.rss)) {
+        t.judged = false;
+        t.reason = "its parameters do not change the model on this record";
+      }
     }
   }
-  if (!unjudged.empty()) d.confident = false;
+
+  void rank_effects() {
+    std::stable_sort(d_.ranking.begin(), d_.ranking.end(), [](const EffectTrial& a, const EffectTrial& b) {
+      const bool ja = a.judged && !a.failed, jb = b.judged && !b.failed;
+      if (ja != jb) return ja;
+      if (a.fitted != b.fitted) return a.fitted;
+      return a.fitted && a.fit.bic < b.fit.bic;
+    });
+    std::vector<std::string> unjudged;
+    for (const auto& t : d_.ranking) {
+      if (t.failed) {
+        d_.warnings.push_back("effect " + t.effect + ": " + t.reason);
+      } else if (!t.judged) {
+        unjudged.push_back(t.effect);
+        d_.warnings.push_back("effect " + t.effect + " cannot be judged from this record: " + t.reason);
+      } else {
+        for (const auto& w : t.fit.warnings) d_.warnings.push_back("effect " + t.effect + ": " + w);
+      }
+    }
+    if (!unjudged.empty()) d_.confident = false;
+  }
 
   // The ladder: the best single effect, then the best addition to the current chain, while the
   // BIC falls. Only effects that improved the BIC alone are candidates.
-  d.ladder.push_back({{}, d.baseline});
-  std::vector<const EffectTrial*> candidates;
-  for (const auto& t : d.ranking)
-    if (t.judged && !t.failed && t.delta_bic < 0.0) candidates.push_back(&t);
-  if (!candidates.empty()) d.ladder.push_back({{candidates.front()->effect}, candidates.front()->fit});
-  std::set<std::string> used;
-  if (!candidates.empty()) used.insert(candidates.front()->effect);
-  while (used.size() < candidates.size()) {
-    const LadderStep& cur = d.ladder.back();
-    std::vector<const EffectTrial*> next;
-    for (const auto* c : candidates)
-      if (!used.count(c->effect)) next.push_back(c);
+  void climb_ladder() {
+    d_.ladder.push_back({{}, d_.baseline});
+    std::vector<const EffectTrial*> candidates;
+    for (const auto& t : d_.ranking)
+      if (t.judged && !t.failed && t.delta_bic < 0.0) candidates.push_back(&t);
+    if (!candidates.empty()) d_.ladder.push_back({{candidates.front()->effect}, candidates.front()->fit});
+    std::set<std::string> used;
+    if (!candidates.empty()) used.insert(candidates.front()->effect);
+    while (used.size() < candidates.size()) {
+      std::vector<const EffectTrial*> next;
+      for (const auto* c : candidates)
+        if (!used.count(c->effect)) next.push_back(c);
+      if (!add_rung(next, used)) break;
+    }
+  }
+
+  // Fits the current chain plus each of `next`; adds the best as a rung if it lowers the BIC.
+  bool add_rung(const std::vector<const EffectTrial*>& next, std::set<std::string>& used) {
+    const LadderStep& cur = d_.ladder.back();
     std::vector<CalibrationResult> fits(next.size());
     std::vector<bool> ok(next.size(), false);
-    const int o2 = std::max(1, std::min<int>(options.threads, static_cast<int>(next.size())));
+    const int o2 = std::max(1, std::min<int>(options_.threads, static_cast<int>(next.size())));
     for_each_parallel(next.size(), o2, [&](std::size_t i) {
       std::vector<std::string> chain = cur.effects;
       chain.push_back(next[i]->effect);
-      CalibrationOptions o = options_for(chain, cur.fit, std::max(1, options.threads / o2));
+      CalibrationOptions o = options_for(chain, cur.fit, std::max(1, options_.threads / o2));
       for (const auto& p : next[i]->fit.params)
         if (p.owner == next[i]->effect) o.start[p.name] = p.value;
       try {
-        fits[i] = calibrate(data, seg, o);
-        count_parameters(fits[i], law_free.size(), chain);
+        fits[i] = calibrate(data_, seg_, o);
+        count_parameters(fits[i], law_free_.size(), chain);
         ok[i] = true;
       } catch (const std::exception&) {
         ok[i] = false;
@@ -397,14 +441,26 @@ Diagnosis diagnose(const MeasurementFile& data, const Segmentation& seg, const D
     std::size_t best = next.size();
     for (std::size_t i = 0; i < next.size(); ++i)
       if (ok[i] && (best == next.size() || fits[i].bic < fits[best].bic)) best = i;
-    if (best == next.size() || !(fits[best].bic < cur.fit.bic)) break;
+    if (best == next.size() || !(fits[best].bic < cur.fit.bic)) return false;
     LadderStep step{cur.effects, std::move(fits[best])};
     step.effects.push_back(next[best]->effect);
     used.insert(next[best]->effect);
-    d.ladder.push_back(std::move(step));
+    d_.ladder.push_back(std::move(step));
+    return true;
   }
-  d.wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-  return d;
+
+  const MeasurementFile& data_;
+  const Segmentation& seg_;
+  const DiagnosisOptions& options_;
+  Diagnosis d_;
+  bool short_record_ = false;
+  std::vector<std::string> law_free_;
+};
+
+}  // namespace
+
+Diagnosis diagnose(const MeasurementFile& data, const Segmentation& seg, const DiagnosisOptions& options) {
+  return DiagnosisRun(data, seg, options).run();
 }
 
 nlohmann::json to_json(const Diagnosis& d, const std::string& data_file) {
