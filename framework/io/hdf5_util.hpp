@@ -87,14 +87,19 @@ inline Handle open_group(hid_t loc, const std::string& name, const std::string& 
   return {check(H5Gopen2(loc, name.c_str(), H5P_DEFAULT), "no group '" + name + "' in " + file), H5Gclose};
 }
 
-// Scalar or string attributes on any object.
-template <class T>
-void write_attr(hid_t obj, const std::string& name, T value, const std::string& file) {
+// Scalar or string attributes on any object. The forms taking an HDF5 type and a pointer serve
+// callers that know the element type only at run time (the checkpoint's field tables).
+inline void write_attr(hid_t obj, const std::string& name, hid_t type, const void* value,
+                       const std::string& file) {
   Handle space(check(H5Screate(H5S_SCALAR), "scalar space"), H5Sclose);
-  Handle a(check(H5Acreate2(obj, name.c_str(), native_type<T>(), space, H5P_DEFAULT, H5P_DEFAULT),
+  Handle a(check(H5Acreate2(obj, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT),
                  "cannot create attribute '" + name + "' in " + file),
            H5Aclose);
-  check_status(H5Awrite(a, native_type<T>(), &value), "cannot write attribute '" + name + "' in " + file);
+  check_status(H5Awrite(a, type, value), "cannot write attribute '" + name + "' in " + file);
+}
+template <class T>
+void write_attr(hid_t obj, const std::string& name, T value, const std::string& file) {
+  write_attr(obj, name, native_type<T>(), &value, file);
 }
 
 // Variable-length UTF-8 string: h5py reads it back as str rather than bytes.
@@ -116,11 +121,14 @@ inline void write_attr_string(hid_t obj, const std::string& name, const std::str
   check_status(H5Awrite(a, t, &p), "cannot write attribute '" + name + "' in " + file);
 }
 
+inline void read_attr(hid_t obj, const std::string& name, hid_t type, void* value, const std::string& file) {
+  Handle a(check(H5Aopen(obj, name.c_str(), H5P_DEFAULT), "no attribute '" + name + "' in " + file), H5Aclose);
+  check_status(H5Aread(a, type, value), "cannot read attribute '" + name + "' in " + file);
+}
 template <class T>
 T read_attr(hid_t obj, const std::string& name, const std::string& file) {
-  Handle a(check(H5Aopen(obj, name.c_str(), H5P_DEFAULT), "no attribute '" + name + "' in " + file), H5Aclose);
   T v{};
-  check_status(H5Aread(a, native_type<T>(), &v), "cannot read attribute '" + name + "' in " + file);
+  read_attr(obj, name, native_type<T>(), &v, file);
   return v;
 }
 
@@ -134,19 +142,24 @@ inline std::string read_attr_string(hid_t obj, const std::string& name, const st
   return s;
 }
 
-// A one- or two-dimensional dataset written in one go (rows x cols, row-major).
+// A one- or two-dimensional dataset written in one go (rows x cols, row-major); one-dimensional
+// when cols is 1. The first form takes the element type at run time, like write_attr.
+inline void write_dataset(hid_t loc, const std::string& name, hid_t type, const void* data, hsize_t rows,
+                          hsize_t cols, const std::string& file) {
+  const hsize_t dims[2] = {rows, cols};
+  Handle space(check(H5Screate_simple(cols == 1 ? 1 : 2, dims, nullptr), "dataspace for " + name), H5Sclose);
+  Handle ds(check(H5Dcreate2(loc, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                  "cannot create dataset '" + name + "' in " + file),
+            H5Dclose);
+  if (rows * cols > 0)
+    check_status(H5Dwrite(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data),
+                 "cannot write dataset '" + name + "' in " + file);
+}
 template <class T>
 void write_dataset(hid_t loc, const std::string& name, const std::vector<T>& data, hsize_t rows,
                    hsize_t cols, const std::string& file) {
   if (data.size() != rows * cols) throw std::logic_error("h5::write_dataset: size mismatch for " + name);
-  const hsize_t dims[2] = {rows, cols};
-  Handle space(check(H5Screate_simple(cols == 1 ? 1 : 2, dims, nullptr), "dataspace for " + name), H5Sclose);
-  Handle ds(check(H5Dcreate2(loc, name.c_str(), native_type<T>(), space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-                  "cannot create dataset '" + name + "' in " + file),
-            H5Dclose);
-  if (!data.empty())
-    check_status(H5Dwrite(ds, native_type<T>(), H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()),
-                 "cannot write dataset '" + name + "' in " + file);
+  write_dataset(loc, name, native_type<T>(), data.data(), rows, cols, file);
 }
 
 // Shape of a dataset as {rows, cols} (cols = 1 for one-dimensional datasets).
