@@ -1,15 +1,19 @@
 #include "framework/io/checkpoint.hpp"
 
+#include <algorithm>
+#include <array>
+#include <cstddef>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
-#include <functional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "framework/core/error.hpp"
 #include "framework/io/hdf5_util.hpp"
 #include "framework/model/model.hpp"
+#include "framework/model/state_fields.hpp"
 
 namespace rockdem {
 
@@ -20,46 +24,6 @@ constexpr const char* kFormat = "rockdem-checkpoint";
 using u8 = std::uint8_t;
 using i32 = std::int32_t;
 using i64 = std::int64_t;
-
-// Columns are gathered into flat row-major buffers: one HDF5 write per field keeps the file
-// readable field by field in h5py, and the cost is negligible next to a time step.
-template <class T, class Item, class F>
-std::vector<T> column(const std::vector<Item>& items, F get) {
-  std::vector<T> out;
-  out.reserve(items.size());
-  for (const Item& it : items) out.push_back(static_cast<T>(get(it)));
-  return out;
-}
-
-template <class Item, class F>
-std::vector<double> vec2_column(const std::vector<Item>& items, F get) {
-  std::vector<double> out;
-  out.reserve(2 * items.size());
-  for (const Item& it : items) {
-    const Vec2& v = get(it);
-    out.push_back(v.x());
-    out.push_back(v.y());
-  }
-  return out;
-}
-
-template <class Item, class F>
-std::vector<double> voigt_column(const std::vector<Item>& items, F get) {
-  std::vector<double> out;
-  out.reserve(3 * items.size());
-  for (const Item& it : items) {
-    const Voigt3& v = get(it);
-    out.insert(out.end(), {v[0], v[1], v[2]});
-  }
-  return out;
-}
-
-template <class Item, class F>
-std::vector<u8> bytes_column(const std::vector<Item>& items, std::size_t width, F get) {
-  std::vector<u8> out(items.size() * width);
-  for (std::size_t i = 0; i < items.size(); ++i) std::memcpy(out.data() + i * width, get(items[i]), width);
-  return out;
-}
 
 // Reads datasets of one group, checking their shapes against what the model expects.
 class GroupReader {
@@ -99,6 +63,90 @@ herr_t collect_attr_name(hid_t, const char* name, const H5A_info_t*, void* data)
   return 0;
 }
 
+using fields::Field;
+using fields::Role;
+
+hid_t hdf5_type(fields::Scalar s) {
+  switch (s) {
+    case fields::Scalar::f64: return h5::native_type<double>();
+    case fields::Scalar::i64: return h5::native_type<i64>();
+    case fields::Scalar::i32: return h5::native_type<i32>();
+    case fields::Scalar::u8: return h5::native_type<u8>();
+  }
+  throw std::logic_error("checkpoint: unknown field type");
+}
+
+// Root attributes, one per field of the Model's scalars: each is one value of at most 8 bytes.
+using ScalarBuffer = std::array<std::byte, 8>;
+static_assert(std::ranges::all_of(fields::kModelFields, [](const Field<Model>& fd) {
+  return fd.width == 1 && fd.bytes() <= ScalarBuffer{}.size();
+}));
+
+void write_model_fields(hid_t file, const Model& m, const std::string& f) {
+  ScalarBuffer value{};
+  for (const Field<Model>& fd : fields::kModelFields) {
+    fd.get(m, value.data());
+    h5::write_attr(file, fd.name, hdf5_type(fd.type), value.data(), f);
+  }
+}
+
+// One dataset per field, gathered into a flat row-major buffer: one HDF5 write per field keeps the
+// file readable field by field in h5py, and the cost is negligible next to a time step.
+template <class Item, std::size_t N>
+void write_fields(hid_t grp, const Field<Item> (&table)[N], const std::vector<Item>& items, const std::string& f) {
+  std::vector<std::byte> buf;
+  for (const Field<Item>& fd : table) {
+    const std::size_t w = fd.bytes();
+    buf.assign(items.size() * w, std::byte{});
+    for (std::size_t i = 0; i < items.size(); ++i) fd.get(items[i], buf.data() + i * w);
+    h5::write_dataset(grp, fd.name, hdf5_type(fd.type), buf.data(), items.size(), fd.width, f);
+  }
+}
+
+void write_block_names(hid_t grp, const std::vector<Block>& blocks, const std::string& f) {
+  h5::Handle st = h5::vlen_string_type();
+  std::vector<const char*> names;
+  for (const Block& bl : blocks) names.push_back(bl.name.c_str());
+  const hsize_t dims[1] = {blocks.size()};
+  h5::Handle space(H5Screate_simple(1, dims, nullptr), H5Sclose);
+  h5::Handle ds(h5::check(H5Dcreate2(grp, "name", st, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                          "cannot create /blocks/name in " + f),
+                H5Dclose);
+  if (!blocks.empty()) h5::check_status(H5Dwrite(ds, st, H5S_ALL, H5S_ALL, H5P_DEFAULT, names.data()), "/blocks/name");
+}
+
+// Boundary loops and rest offsets are ragged: flat arrays plus per-block counts.
+void write_block_loops(hid_t grp, const std::vector<Block>& blocks, const std::string& f) {
+  std::vector<i32> boundary, boundary_count, rest_count;
+  std::vector<double> rest;
+  for (const Block& bl : blocks) {
+    boundary.insert(boundary.end(), bl.boundary.begin(), bl.boundary.end());
+    boundary_count.push_back(static_cast<i32>(bl.boundary.size()));
+    for (const Vec2& r : bl.rest_offsets) rest.insert(rest.end(), {r.x(), r.y()});
+    rest_count.push_back(static_cast<i32>(bl.rest_offsets.size()));
+  }
+  const hsize_t n = blocks.size();
+  h5::write_dataset(grp, "boundary_count", boundary_count, n, 1, f);
+  h5::write_dataset(grp, "boundary", boundary, boundary.size(), 1, f);
+  h5::write_dataset(grp, "rest_offsets_count", rest_count, n, 1, f);
+  h5::write_dataset(grp, "rest_offsets", rest, rest.size() / 2, 2, f);
+}
+
+// The joint models' case-file names, one per line: a restore compares them with the model's.
+std::string joint_model_names(const ContactStore& store) {
+  std::string names;
+  for (const auto& s : store.model_names) names += (names.empty() ? "" : "\n") + s;
+  return names;
+}
+
+void write_contact_store(hid_t grp, const ContactStore& store, const std::string& f) {
+  h5::write_attr<double>(grp, "rounding", store.rounding, f);
+  h5::write_attr<double>(grp, "tolerance", store.tolerance, f);
+  h5::write_attr<i32>(grp, "joint_models", static_cast<i32>(store.models.size()), f);
+  h5::write_attr_string(grp, "joint_model_names", joint_model_names(store), f);
+  write_fields(grp, fields::kContactFields, store.items, f);
+}
+
 }  // namespace
 
 void write_checkpoint(const Model& m, const std::string& path, const CheckpointScalars& extra) {
@@ -111,132 +159,16 @@ void write_checkpoint(const Model& m, const std::string& path, const CheckpointS
 
     h5::write_attr_string(file, "format", kFormat, f);
     h5::write_attr<i32>(file, "version", kVersion, f);
-    h5::write_attr<double>(file, "time", m.time, f);
-    h5::write_attr<i64>(file, "step", m.step, f);
-    h5::write_attr<double>(file, "thickness", m.thickness, f);
-    h5::write_attr<double>(file, "gravity_x", m.gravity.x(), f);
-    h5::write_attr<double>(file, "gravity_y", m.gravity.y(), f);
-
-    {  // gridpoints
-      const auto& g = m.gp;
-      const hsize_t n = g.size();
-      h5::Handle grp = h5::create_group(file, "gridpoints", f);
-      h5::write_dataset(grp, "x0", vec2_column(g, [](auto& p) -> const Vec2& { return p.x0; }), n, 2, f);
-      h5::write_dataset(grp, "x", vec2_column(g, [](auto& p) -> const Vec2& { return p.x; }), n, 2, f);
-      h5::write_dataset(grp, "v", vec2_column(g, [](auto& p) -> const Vec2& { return p.v; }), n, 2, f);
-      h5::write_dataset(grp, "f", vec2_column(g, [](auto& p) -> const Vec2& { return p.f; }), n, 2, f);
-      h5::write_dataset(grp, "mass", column<double>(g, [](auto& p) { return p.mass; }), n, 1, f);
-      h5::write_dataset(grp, "stiffness", column<double>(g, [](auto& p) { return p.stiffness; }), n, 1, f);
-      h5::write_dataset(grp, "block", column<i32>(g, [](auto& p) { return p.block; }), n, 1, f);
-      h5::write_dataset(grp, "local", column<i32>(g, [](auto& p) { return p.local; }), n, 1, f);
-      h5::write_dataset(grp, "fixed_x", column<u8>(g, [](auto& p) { return p.fixed_x; }), n, 1, f);
-      h5::write_dataset(grp, "fixed_y", column<u8>(g, [](auto& p) { return p.fixed_y; }), n, 1, f);
-      h5::write_dataset(grp, "prescribed", column<u8>(g, [](auto& p) { return p.prescribed; }), n, 1, f);
-    }
-    {  // zones
-      const auto& z = m.zones;
-      const hsize_t n = z.size();
-      h5::Handle grp = h5::create_group(file, "zones", f);
-      std::vector<i32> nodes;
-      nodes.reserve(3 * n);
-      for (const Zone& zn : z) nodes.insert(nodes.end(), {zn.n[0], zn.n[1], zn.n[2]});
-      h5::write_dataset(grp, "n", nodes, n, 3, f);
-      h5::write_dataset(grp, "area", column<double>(z, [](auto& q) { return q.area; }), n, 1, f);
-      h5::write_dataset(grp, "stress", voigt_column(z, [](auto& q) -> const Voigt3& { return q.stress; }), n, 3, f);
-      h5::write_dataset(grp, "szz", column<double>(z, [](auto& q) { return q.szz; }), n, 1, f);
-      h5::write_dataset(grp, "strain", voigt_column(z, [](auto& q) -> const Voigt3& { return q.strain; }), n, 3, f);
-      h5::write_dataset(grp, "material", column<i32>(z, [](auto& q) { return q.material; }), n, 1, f);
-      constexpr std::size_t w = sizeof(Zone::material_state);
-      h5::write_dataset(grp, "material_state", bytes_column(z, w, [](auto& q) { return q.material_state.data(); }), n, w, f);
-    }
-    {  // blocks; boundary loops and rest offsets are ragged: flat arrays plus per-block counts
-      const auto& b = m.blocks;
-      const hsize_t n = b.size();
+    write_model_fields(file, m, f);
+    write_fields(h5::create_group(file, "gridpoints", f), fields::kGridPointFields, m.gp, f);
+    write_fields(h5::create_group(file, "zones", f), fields::kZoneFields, m.zones, f);
+    {
       h5::Handle grp = h5::create_group(file, "blocks", f);
-      h5::Handle st = h5::vlen_string_type();
-      {
-        std::vector<const char*> names;
-        for (const Block& bl : b) names.push_back(bl.name.c_str());
-        const hsize_t dims[1] = {n};
-        h5::Handle space(H5Screate_simple(1, dims, nullptr), H5Sclose);
-        h5::Handle ds(h5::check(H5Dcreate2(grp, "name", st, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-                                "cannot create /blocks/name in " + f),
-                      H5Dclose);
-        if (n > 0) h5::check_status(H5Dwrite(ds, st, H5S_ALL, H5S_ALL, H5P_DEFAULT, names.data()), "/blocks/name");
-      }
-      h5::write_dataset(grp, "id", column<i32>(b, [](auto& q) { return q.id; }), n, 1, f);
-      h5::write_dataset(grp, "rigid", column<u8>(b, [](auto& q) { return q.rigid; }), n, 1, f);
-      h5::write_dataset(grp, "group", column<i32>(b, [](auto& q) { return q.group; }), n, 1, f);
-      h5::write_dataset(grp, "first_gp", column<i32>(b, [](auto& q) { return q.first_gp; }), n, 1, f);
-      h5::write_dataset(grp, "n_gp", column<i32>(b, [](auto& q) { return q.n_gp; }), n, 1, f);
-      h5::write_dataset(grp, "first_zone", column<i32>(b, [](auto& q) { return q.first_zone; }), n, 1, f);
-      h5::write_dataset(grp, "n_zone", column<i32>(b, [](auto& q) { return q.n_zone; }), n, 1, f);
-      h5::write_dataset(grp, "density", column<double>(b, [](auto& q) { return q.density; }), n, 1, f);
-      h5::write_dataset(grp, "mass", column<double>(b, [](auto& q) { return q.mass; }), n, 1, f);
-      h5::write_dataset(grp, "inertia", column<double>(b, [](auto& q) { return q.inertia; }), n, 1, f);
-      h5::write_dataset(grp, "xc0", vec2_column(b, [](auto& q) -> const Vec2& { return q.xc0; }), n, 2, f);
-      h5::write_dataset(grp, "xc", vec2_column(b, [](auto& q) -> const Vec2& { return q.xc; }), n, 2, f);
-      h5::write_dataset(grp, "vc", vec2_column(b, [](auto& q) -> const Vec2& { return q.vc; }), n, 2, f);
-      h5::write_dataset(grp, "fc", vec2_column(b, [](auto& q) -> const Vec2& { return q.fc; }), n, 2, f);
-      h5::write_dataset(grp, "theta", column<double>(b, [](auto& q) { return q.theta; }), n, 1, f);
-      h5::write_dataset(grp, "omega", column<double>(b, [](auto& q) { return q.omega; }), n, 1, f);
-      h5::write_dataset(grp, "moment", column<double>(b, [](auto& q) { return q.moment; }), n, 1, f);
-      h5::write_dataset(grp, "mass_scale", column<double>(b, [](auto& q) { return q.mass_scale; }), n, 1, f);
-      h5::write_dataset(grp, "fixed", column<u8>(b, [](auto& q) { return q.fixed; }), n, 1, f);
-      h5::write_dataset(grp, "prescribed", column<u8>(b, [](auto& q) { return q.prescribed; }), n, 1, f);
-      std::vector<i32> boundary, boundary_count, rest_count;
-      std::vector<double> rest;
-      for (const Block& bl : b) {
-        boundary.insert(boundary.end(), bl.boundary.begin(), bl.boundary.end());
-        boundary_count.push_back(static_cast<i32>(bl.boundary.size()));
-        for (const Vec2& r : bl.rest_offsets) rest.insert(rest.end(), {r.x(), r.y()});
-        rest_count.push_back(static_cast<i32>(bl.rest_offsets.size()));
-      }
-      h5::write_dataset(grp, "boundary_count", boundary_count, n, 1, f);
-      h5::write_dataset(grp, "boundary", boundary, boundary.size(), 1, f);
-      h5::write_dataset(grp, "rest_offsets_count", rest_count, n, 1, f);
-      h5::write_dataset(grp, "rest_offsets", rest, rest.size() / 2, 2, f);
+      write_block_names(grp, m.blocks, f);
+      write_fields(grp, fields::kBlockFields, m.blocks, f);
+      write_block_loops(grp, m.blocks, f);
     }
-    {  // contacts
-      const auto& c = m.contacts.items;
-      const hsize_t n = c.size();
-      h5::Handle grp = h5::create_group(file, "contacts", f);
-      h5::write_attr<double>(grp, "rounding", m.contacts.rounding, f);
-      h5::write_attr<double>(grp, "tolerance", m.contacts.tolerance, f);
-      h5::write_attr<i32>(grp, "joint_models", static_cast<i32>(m.contacts.models.size()), f);
-      std::string names;
-      for (const auto& s : m.contacts.model_names) names += (names.empty() ? "" : "\n") + s;
-      h5::write_attr_string(grp, "joint_model_names", names, f);
-      std::vector<i32> keys;
-      keys.reserve(3 * n);
-      for (const Contact& k : c) keys.insert(keys.end(), {k.key.point_block, k.key.point_local, k.key.other_block});
-      h5::write_dataset(grp, "key", keys, n, 3, f);
-      h5::write_dataset(grp, "point", column<i32>(c, [](auto& q) { return q.point; }), n, 1, f);
-      h5::write_dataset(grp, "other", column<i32>(c, [](auto& q) { return q.other; }), n, 1, f);
-      h5::write_dataset(grp, "point_loop", column<i32>(c, [](auto& q) { return q.point_loop; }), n, 1, f);
-      h5::write_dataset(grp, "face_mode", column<u8>(c, [](auto& q) { return q.face_mode; }), n, 1, f);
-      h5::write_dataset(grp, "edge", column<i32>(c, [](auto& q) { return q.edge; }), n, 1, f);
-      h5::write_dataset(grp, "s", column<double>(c, [](auto& q) { return q.s; }), n, 1, f);
-      h5::write_dataset(grp, "normal", vec2_column(c, [](auto& q) -> const Vec2& { return q.normal; }), n, 2, f);
-      h5::write_dataset(grp, "length", column<double>(c, [](auto& q) { return q.length; }), n, 1, f);
-      h5::write_dataset(grp, "overlap", column<double>(c, [](auto& q) { return q.overlap; }), n, 1, f);
-      h5::write_dataset(grp, "joint", column<i32>(c, [](auto& q) { return q.joint; }), n, 1, f);
-      h5::write_dataset(grp, "pretouch_gap", column<double>(c, [](auto& q) { return q.pretouch_gap; }), n, 1, f);
-      h5::write_dataset(grp, "pending_closure", column<double>(c, [](auto& q) { return q.pending_closure; }), n, 1, f);
-      h5::write_dataset(grp, "fresh", column<u8>(c, [](auto& q) { return q.fresh; }), n, 1, f);
-      h5::write_dataset(grp, "state", bytes_column(c, kJointStateBytes, [](auto& q) { return q.state.bytes.data(); }),
-                        n, kJointStateBytes, f);
-      h5::write_dataset(grp, "sigma_n", column<double>(c, [](auto& q) { return q.response.sigma_n; }), n, 1, f);
-      h5::write_dataset(grp, "tau", column<double>(c, [](auto& q) { return q.response.tau; }), n, 1, f);
-      h5::write_dataset(grp, "kn", column<double>(c, [](auto& q) { return q.response.kn; }), n, 1, f);
-      h5::write_dataset(grp, "ks", column<double>(c, [](auto& q) { return q.response.ks; }), n, 1, f);
-      h5::write_dataset(grp, "u_s", column<double>(c, [](auto& q) { return q.response.u_s; }), n, 1, f);
-      h5::write_dataset(grp, "u_n", column<double>(c, [](auto& q) { return q.response.u_n; }), n, 1, f);
-      h5::write_dataset(grp, "dilation", column<double>(c, [](auto& q) { return q.response.dilation; }), n, 1, f);
-      h5::write_dataset(grp, "dissipated", column<double>(c, [](auto& q) { return q.response.dissipated; }), n, 1, f);
-      h5::write_dataset(grp, "slipping", column<u8>(c, [](auto& q) { return q.response.slipping; }), n, 1, f);
-      h5::write_dataset(grp, "open", column<u8>(c, [](auto& q) { return q.response.open; }), n, 1, f);
-    }
+    write_contact_store(h5::create_group(file, "contacts", f), m.contacts, f);
     {
       h5::Handle grp = h5::create_group(file, "extra", f);
       for (const auto& [k, v] : extra) h5::write_attr<double>(grp, k, v, f);
