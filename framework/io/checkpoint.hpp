@@ -12,6 +12,8 @@
 // Layout (h5py-readable): attributes format, version, time, step, thickness, gravity on /;
 // groups /gridpoints, /zones, /blocks, /contacts with one dataset per field (vectors as n x 2,
 // stresses n x 3, state blocks n x bytes of uint8); /extra holds caller scalars as attributes.
+// The per-item datasets and the root scalars are the fields listed in
+// framework/model/state_fields.hpp: a field added there is written and read back.
 #include <map>
 #include <string>
 
