@@ -14,12 +14,21 @@ const ConditionValue* ConditionInput::value(const std::string& key) const {
   return it == values.end() ? nullptr : &it->second;
 }
 
+std::optional<TimeFunction> ConditionInput::function(const std::string& key) const {
+  const ConditionValue* v = value(key);
+  return v ? v->function : std::nullopt;
+}
+
 ConditionKinds& ConditionKinds::instance() {
   static ConditionKinds kinds;
   return kinds;
 }
 
-void ConditionKinds::add(ConditionKind kind) { kinds_.push_back(std::move(kind)); }
+void ConditionKinds::add(int rank, ConditionKind kind) {
+  const auto at = std::upper_bound(ranks_.begin(), ranks_.end(), rank);
+  kinds_.insert(kinds_.begin() + (at - ranks_.begin()), std::move(kind));
+  ranks_.insert(at, rank);
+}
 
 const ConditionKind* ConditionKinds::find(const std::string& name) const {
   for (const auto& k : kinds_)
@@ -49,11 +58,6 @@ std::vector<std::string> ConditionKinds::key_names() const {
 
 namespace {
 
-std::optional<TimeFunction> function_of(const ConditionInput& in, const std::string& key) {
-  const ConditionValue* v = in.value(key);
-  return v ? v->function : std::nullopt;
-}
-
 std::unique_ptr<BoundaryCondition> make_fixed(const ConditionInput& in) {
   bool fx = true, fy = true;
   if (const ConditionValue* comps = in.value("components")) {
@@ -75,7 +79,7 @@ std::unique_ptr<BoundaryCondition> make_fixed(const ConditionInput& in) {
 }
 
 std::unique_ptr<BoundaryCondition> make_velocity(const ConditionInput& in) {
-  const auto vx = function_of(in, "vx"), vy = function_of(in, "vy"), spin = function_of(in, "spin");
+  const auto vx = in.function("vx"), vy = in.function("vy"), spin = in.function("spin");
   if (!vx && !vy && !spin) throw InputError(in.where + ": a velocity condition needs vx, vy or spin");
   if (spin && !in.rigid) throw InputError(in.value("spin")->where + ": spin applies to rigid blocks only");
   return std::make_unique<VelocityCondition>(in.selection, in.rigid, vx, vy, spin);
@@ -83,7 +87,7 @@ std::unique_ptr<BoundaryCondition> make_velocity(const ConditionInput& in) {
 
 std::unique_ptr<BoundaryCondition> make_traction(const ConditionInput& in) {
   // A stress not given is zero.
-  const auto sn = function_of(in, "normal"), ss = function_of(in, "shear");
+  const auto sn = in.function("normal"), ss = in.function("shear");
   return std::make_unique<TractionCondition>(in.selection, sn ? *sn : TimeFunction::constant(0.0),
                                              ss ? *ss : TimeFunction::constant(0.0));
 }
@@ -99,23 +103,23 @@ std::unique_ptr<BoundaryCondition> make_quiet(const ConditionInput& in) {
 
 using Type = ConditionKey::Type;
 
-// Registered in this order, which is the order messages list the kinds and their keys in.
-const ConditionKindRegistrar fixed_kind{ConditionKind{
+// The ranks give the order messages list the kinds and their keys in.
+const ConditionKindRegistrar fixed_kind{10, ConditionKind{
     "fixed", "gridpoints (or a whole rigid block) held in place",
     {{"components", Type::names, Dimension::dimensionless, "components held, [\"x\"], [\"y\"] or both (default)"}},
     true, make_fixed}};
-const ConditionKindRegistrar velocity_kind{ConditionKind{
+const ConditionKindRegistrar velocity_kind{20, ConditionKind{
     "velocity", "prescribed velocity components, functions of stage time",
     {{"vx", Type::time_function, Dimension::velocity, "x velocity history"},
      {"vy", Type::time_function, Dimension::velocity, "y velocity history"},
      {"spin", Type::time_function, Dimension::angular_velocity, "angular velocity history (rigid blocks only)"}},
     true, make_velocity}};
-const ConditionKindRegistrar traction_kind{ConditionKind{
+const ConditionKindRegistrar traction_kind{30, ConditionKind{
     "traction", "normal and shear stress on a face, functions of stage time",
     {{"normal", Type::time_function, Dimension::stress, "normal stress history, compression positive (default 0)"},
      {"shear", Type::time_function, Dimension::stress, "shear stress history, counter-clockwise positive (default 0)"}},
     false, make_traction}};
-const ConditionKindRegistrar quiet_kind{ConditionKind{
+const ConditionKindRegistrar quiet_kind{40, ConditionKind{
     "quiet", "viscous boundary absorbing outgoing waves (deformable blocks)", {}, false, make_quiet}};
 
 }  // namespace
