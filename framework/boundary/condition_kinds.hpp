@@ -1,6 +1,6 @@
 #pragma once
-// The kinds of boundary condition a case can name (`type = "fixed"`, ...), registered by name in
-// condition_kinds.cpp beside the factories that make them, each with the keys it takes. A case
+// The kinds of boundary condition a case can name (`type = "fixed"`, ...), registered by name each
+// in its own file beside its class (fixed_condition.cpp, ...), with the keys it takes. A case
 // reader asks this list which keys a kind has and how to read them, and the case builder makes a
 // condition without knowing the kinds, so adding a kind touches no reader or builder.
 // A kind is made from a neutral description (ConditionInput), not from a file format: readers
