@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "framework/core/error.hpp"
+#include "framework/core/names.hpp"
 #include "framework/core/units.hpp"
 
 namespace rockdem::seismic {
@@ -118,8 +119,7 @@ std::size_t acceleration_column(const std::string& path, const std::string& wher
   std::size_t k = 0;
   while (k < cols.header.size() && cols.header[k] != c) ++k;
   if (k == cols.header.size()) {
-    std::string names;
-    for (const auto& h : cols.header) names += (names.empty() ? "" : ", ") + ("'" + h + "'");
+    const std::string names = join_names(cols.header, [](const std::string& h) { return "'" + h + "'"; });
     throw InputError(path + (cols.header_line ? ":" + std::to_string(cols.header_line) : std::string()) +
                      ": no column named '" + c + "'" +
                      (cols.header.empty() ? " (the record has no header)" : " in the header (" + names + ")") + "; " +
