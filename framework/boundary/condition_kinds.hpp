@@ -1,6 +1,6 @@
 #pragma once
-// The kinds of boundary condition a case can name (`type = "fixed"`, ...), registered by name in
-// condition_kinds.cpp beside the factories that make them, each with the keys it takes. A case
+// The kinds of boundary condition a case can name (`type = "fixed"`, ...), registered by name each
+// in its own file beside its class (fixed_condition.cpp, ...), with the keys it takes. A case
 // reader asks this list which keys a kind has and how to read them, and the case builder makes a
 // condition without knowing the kinds, so adding a kind touches no reader or builder.
 // A kind is made from a neutral description (ConditionInput), not from a file format: readers
@@ -45,6 +45,8 @@ struct ConditionInput {
   std::map<std::string, ConditionValue> values;
   std::string where;  // the condition as a whole, for messages
   const ConditionValue* value(const std::string& key) const;
+  // The time function given for `key`, or none if the key was not given.
+  std::optional<TimeFunction> function(const std::string& key) const;
 };
 
 struct ConditionKind {
@@ -56,27 +58,32 @@ struct ConditionKind {
   std::function<std::unique_ptr<BoundaryCondition>(const ConditionInput&)> make;
 };
 
-// Kinds in the order they were registered (the order messages and documentation list them in).
+// Kinds in the order of their ranks (the order messages and documentation list them in). Kinds
+// register from several source files, whose static initialisation order is not defined, so each
+// declares its place in the list rather than relying on when it registers.
 class ConditionKinds {
  public:
   static ConditionKinds& instance();
-  void add(ConditionKind kind);
+  // Inserts `kind` after every kind of lower or equal rank.
+  void add(int rank, ConditionKind kind);
   const ConditionKind* find(const std::string& name) const;
   // Throws an InputError at `where` listing the valid kinds when `name` is unknown.
   const ConditionKind& get(const std::string& name, const std::string& where) const;
   const std::vector<ConditionKind>& kinds() const { return kinds_; }
   // The first kind's declaration of `key` (kinds that share a key read it alike), or null.
   const ConditionKey* key(const std::string& name) const;
-  // The keys of all kinds, each once, in registration order.
+  // The keys of all kinds, each once, in the order of the kinds.
   std::vector<std::string> key_names() const;
 
  private:
   std::vector<ConditionKind> kinds_;
+  std::vector<int> ranks_;  // ranks_[i] is the rank of kinds_[i], ascending
 };
 
-// Registers a kind at static initialisation: `const ConditionKindRegistrar r{ConditionKind{...}};`
+// Registers a kind at static initialisation, at its rank in the list of kinds:
+// `const ConditionKindRegistrar r{rank, ConditionKind{...}};`
 struct ConditionKindRegistrar {
-  explicit ConditionKindRegistrar(ConditionKind kind) { ConditionKinds::instance().add(std::move(kind)); }
+  ConditionKindRegistrar(int rank, ConditionKind kind) { ConditionKinds::instance().add(rank, std::move(kind)); }
 };
 
 }  // namespace rockdem

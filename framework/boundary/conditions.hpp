@@ -6,7 +6,6 @@
 //               of their magnitudes (the unbalanced-force ratio is measured against it);
 //   velocities() overwrites prescribed velocities after the equation of motion.
 #include <memory>
-#include <optional>
 #include <string>
 #include <vector>
 
@@ -41,65 +40,6 @@ class BoundaryCondition {
   // Stages this condition is active in (empty: all).
   std::vector<std::string> stages;
   bool active_in(const std::string& stage) const;
-};
-
-// Gridpoints held in x and/or y (or a whole rigid block held in place).
-class FixedCondition final : public BoundaryCondition {
- public:
-  FixedCondition(FaceSelection sel, bool fix_x, bool fix_y, bool whole_rigid_block);
-  std::string describe(const Model& m) const override;
-  void setup(Model&) override;
-  void velocities(Model&, double) override;
-
- private:
-  FaceSelection sel_;
-  bool fx_, fy_, rigid_;
-};
-
-// Prescribed velocity components (functions of stage time) on gridpoints or a rigid block.
-// Components left empty stay free.
-class VelocityCondition final : public BoundaryCondition {
- public:
-  VelocityCondition(FaceSelection sel, bool whole_rigid_block, std::optional<TimeFunction> vx,
-                    std::optional<TimeFunction> vy, std::optional<TimeFunction> spin);
-  std::string describe(const Model& m) const override;
-  void setup(Model&) override;
-  void velocities(Model&, double t) override;
-  // Longest finite duration of its velocity histories (0 if none is finite).
-  double duration() const;
-  double history_duration() const override { return duration(); }
-
- private:
-  FaceSelection sel_;
-  bool rigid_;
-  std::optional<TimeFunction> vx_, vy_, spin_;
-};
-
-// Traction on a face: normal stress (compression positive, pushing into the block) and shear
-// stress (positive along the face tangent, counter-clockwise around the block), as functions of
-// time, integrated over the current edge lengths.
-class TractionCondition final : public BoundaryCondition {
- public:
-  TractionCondition(FaceSelection sel, TimeFunction normal, TimeFunction shear);
-  std::string describe(const Model& m) const override;
-  double forces(Model&, double t) override;
-
- private:
-  FaceSelection sel_;
-  TimeFunction normal_, shear_;
-};
-
-// Viscous (quiet) boundary: normal and shear dashpots rho*Cp and rho*Cs per unit length
-// (Lysmer & Kuhlemeyer 1969), absorbing outgoing waves.
-class QuietCondition final : public BoundaryCondition {
- public:
-  QuietCondition(FaceSelection sel, double rho, double cp, double cs);
-  std::string describe(const Model& m) const override;
-  double forces(Model&, double t) override;
-
- private:
-  FaceSelection sel_;
-  double rho_, cp_, cs_;
 };
 
 }  // namespace rockdem

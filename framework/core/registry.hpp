@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "framework/core/error.hpp"
+#include "framework/core/names.hpp"
 #include "framework/core/params.hpp"
 
 #define ROCKDEM_CONCAT_INNER(a, b) a##b
@@ -53,11 +54,7 @@ class Registry {
     for (const auto& [n, e] : entries_) out.push_back(n);
     return out;
   }
-  std::string names_joined() const {
-    std::string s;
-    for (const auto& [n, e] : entries_) s += (s.empty() ? "" : ", ") + n;
-    return s;
-  }
+  std::string names_joined() const { return join_keys(entries_); }
   const std::map<std::string, Entry>& entries() const { return entries_; }
 
  private:

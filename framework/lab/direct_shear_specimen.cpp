@@ -45,17 +45,9 @@ toml::table path_velocity(const ShearPath& p, double shear_velocity, const std::
   return {};
 }
 
-}  // namespace
-
-toml::table direct_shear_case_table(const LabTest& test, const DirectShearOptions& options) {
-  if (!test.rock) {
-    throw InputError(test.file + ": the DEM specimen needs the rock matrix: add density, bulk and shear to [specimen] "
-                                 "(the report's Table 4-1), e.g. density = \"2418.8 kg/m3\", bulk = \"20.96 GPa\", "
-                                 "shear = \"14.41 GPa\"");
-  }
-  const DemSettings& dem = test.dem;
-  const double shear_velocity = options.shear_velocity >= 0.0 ? options.shear_velocity : dem.shear_velocity;
-  const double mass_scaling_dt = options.mass_scaling_dt >= 0.0 ? options.mass_scaling_dt : dem.mass_scaling_dt;
+// The number of test stages the specimen runs (all, or the first options.stages), each of which
+// must hold the normal stress constant.
+std::size_t stage_count(const LabTest& test, const DirectShearOptions& options) {
   const std::size_t nstages =
       options.stages > 0 ? std::min<std::size_t>(static_cast<std::size_t>(options.stages), test.stages.size()) : test.stages.size();
   for (std::size_t k = 0; k < nstages; ++k)
@@ -63,10 +55,17 @@ toml::table direct_shear_case_table(const LabTest& test, const DirectShearOption
       throw InputError(test.file + ": stage " + std::to_string(k + 1) +
                        " uses constant normal stiffness; the DEM specimen applies a constant normal stress (run it with "
                        "`rockdem element`)");
+  return nstages;
+}
 
-  // Figure 4-7 geometry: 102 mm high blocks, the top one as long as the joint and 51 mm from the
-  // bottom block's left end, the bottom one 305 mm long (longer if the joint is), loading block
-  // 20 mm wide against the top block's left face.
+// Figure 4-7 geometry: 102 mm high blocks, the top one as long as the joint and 51 mm from the
+// bottom block's left end, the bottom one 305 mm long (longer if the joint is), loading block
+// 20 mm wide against the top block's left face.
+struct SpecimenGeometry {
+  double L, H, offset, bottom_length, clearance;
+};
+
+SpecimenGeometry specimen_geometry(const LabTest& test) {
   const double L = test.joint_length, H = 0.102, offset = 0.051;
   const double bottom_length = std::max(0.305, L + 2.0 * offset);
   // The loading blocks are centred on the top block's mid-height (no moment at the start), their
@@ -75,18 +74,12 @@ toml::table direct_shear_case_table(const LabTest& test, const DirectShearOption
   // 5 mm more than the detection distance keeps the loaders out of the bottom block's reach: a
   // loader corner found at exactly the detection distance from the bottom block was seen to blow
   // up (test 24, Barton-Bandis, at 36 s).
-  const double clearance = std::max(0.06 * H, dem.detection_tolerance + dem.rounding + 0.005);
-  toml::table root;
-  root.insert("title", (test.title.empty() ? test.specimen : test.title) + " (DEM specimen, Figure 4-7 model)");
-  root.insert("model", toml::table{{"rounding", q(dem.rounding, "m")}, {"detection_tolerance", q(dem.detection_tolerance, "m")}});
-  toml::table time{{"dt_safety", dem.dt_safety}, {"refresh_interval", 10}};
-  if (mass_scaling_dt > 0.0) time.insert("mass_scaling_dt", q(mass_scaling_dt, "s"));
-  root.insert("time", std::move(time));
-  root.insert("materials", toml::array{toml::table{{"name", "rock"},
-                                                   {"model", "elastic"},
-                                                   {"density", q(test.rock->density, "kg/m3")},
-                                                   {"bulk", q(test.rock->bulk, "Pa")},
-                                                   {"shear", q(test.rock->shear, "Pa")}}});
+  const double clearance = std::max(0.06 * H, test.dem.detection_tolerance + test.dem.rounding + 0.005);
+  return {L, H, offset, bottom_length, clearance};
+}
+
+// [[joints]]: the specimen's joint as the test file gives it, and the loaders' interfaces.
+toml::array specimen_joints(const LabTest& test) {
   toml::table joint = test.joint_params;
   joint.insert_or_assign("name", "specimen_joint");
   joint.insert_or_assign("law", test.law);
@@ -103,52 +96,94 @@ toml::table direct_shear_case_table(const LabTest& test, const DirectShearOption
   // near the bottom block: a frictionless contact, as the loader against the shear box.
   toml::table loader_bottom{{"name", "loader_bottom"}, {"law", "coulomb_slip"}, {"between", toml::array{"loaders", "bottom"}},
                             {"kn", "200000 MPa/m"},     {"ks", "20000 MPa/m"},    {"friction", "0 deg"}};
-  root.insert("joints", toml::array{std::move(joint), std::move(interface), std::move(loader_bottom)});
-  root.insert("blocks", toml::array{
-                            toml::table{{"name", "bottom"}, {"type", "deformable"}, {"material", "rock"},
-                                        {"rectangle", rectangle(0.0, -H, bottom_length, H)}, {"zone_size", q(dem.zone_size, "m")}},
-                            toml::table{{"name", "top"}, {"type", "deformable"}, {"material", "rock"},
-                                        {"rectangle", rectangle(offset, 0.0, L, H)}, {"zone_size", q(dem.zone_size, "m")}},
-                            toml::table{{"name", "loader"}, {"group", "loaders"}, {"type", "rigid"}, {"density", "2420 kg/m3"},
-                                        {"rectangle", rectangle(offset - 0.02, clearance, 0.02, H - 2.0 * clearance)}},
-                            toml::table{{"name", "loader_back"}, {"group", "loaders"}, {"type", "rigid"}, {"density", "2420 kg/m3"},
-                                        {"rectangle", rectangle(offset + L, clearance, 0.02, H - 2.0 * clearance)}},
-                        });
-  toml::array boundary{
+  return toml::array{std::move(joint), std::move(interface), std::move(loader_bottom)};
+}
+
+// [[blocks]]: the two rock blocks and the two rigid loaders.
+toml::array specimen_blocks(const SpecimenGeometry& g, const DemSettings& dem) {
+  return toml::array{
+      toml::table{{"name", "bottom"}, {"type", "deformable"}, {"material", "rock"},
+                  {"rectangle", rectangle(0.0, -g.H, g.bottom_length, g.H)}, {"zone_size", q(dem.zone_size, "m")}},
+      toml::table{{"name", "top"}, {"type", "deformable"}, {"material", "rock"},
+                  {"rectangle", rectangle(g.offset, 0.0, g.L, g.H)}, {"zone_size", q(dem.zone_size, "m")}},
+      toml::table{{"name", "loader"}, {"group", "loaders"}, {"type", "rigid"}, {"density", "2420 kg/m3"},
+                  {"rectangle", rectangle(g.offset - 0.02, g.clearance, 0.02, g.H - 2.0 * g.clearance)}},
+      toml::table{{"name", "loader_back"}, {"group", "loaders"}, {"type", "rigid"}, {"density", "2420 kg/m3"},
+                  {"rectangle", rectangle(g.offset + g.L, g.clearance, 0.02, g.H - 2.0 * g.clearance)}},
+  };
+}
+
+// Per test stage, a load stage and a shear stage, with the boundary conditions active in them.
+struct SpecimenStages {
+  toml::array boundary, stages, shear_stages, normal_stresses;
+};
+
+SpecimenStages specimen_stages(const LabTest& test, std::size_t nstages, double shear_velocity) {
+  SpecimenStages out;
+  out.boundary = toml::array{
       toml::table{{"type", "fixed"}, {"block", "bottom"}, {"face", "bottom"}, {"components", toml::array{"y"}}},
       toml::table{{"type", "fixed"}, {"block", "bottom"}, {"face", "left"}, {"components", toml::array{"x"}}},
       toml::table{{"type", "fixed"}, {"block", "bottom"}, {"face", "right"}, {"components", toml::array{"x"}}},
   };
-  toml::array stages, shear_stages, normal_stresses;
   for (std::size_t k = 0; k < nstages; ++k) {
     const ElementStage& st = test.stages[k];
     const std::string n = std::to_string(k + 1), load = "load_" + n, shear = "shear_" + n;
-    boundary.push_back(toml::table{{"type", "traction"}, {"block", "top"}, {"face", "top"},
-                                   {"normal", q(st.normal_stress, "Pa")}, {"stages", toml::array{load, shear}}});
+    out.boundary.push_back(toml::table{{"type", "traction"}, {"block", "top"}, {"face", "top"},
+                                       {"normal", q(st.normal_stress, "Pa")}, {"stages", toml::array{load, shear}}});
     for (const char* loader : {"loader", "loader_back"}) {
-      boundary.push_back(toml::table{{"type", "velocity"}, {"block", loader}, {"vx", "0 m/s"}, {"vy", "0 m/s"},
-                                     {"spin", "0 rad/s"}, {"stages", toml::array{load}}});
-      boundary.push_back(toml::table{{"type", "velocity"}, {"block", loader},
-                                     {"vx", path_velocity(st.path, shear_velocity, test.file + " stage " + n)},
-                                     {"vy", "0 m/s"}, {"spin", "0 rad/s"}, {"stages", toml::array{shear}}});
+      out.boundary.push_back(toml::table{{"type", "velocity"}, {"block", loader}, {"vx", "0 m/s"}, {"vy", "0 m/s"},
+                                         {"spin", "0 rad/s"}, {"stages", toml::array{load}}});
+      out.boundary.push_back(toml::table{{"type", "velocity"}, {"block", loader},
+                                         {"vx", path_velocity(st.path, shear_velocity, test.file + " stage " + n)},
+                                         {"vy", "0 m/s"}, {"spin", "0 rad/s"}, {"stages", toml::array{shear}}});
     }
     toml::table load_stage{{"name", load}, {"damping", "local"}, {"until", "equilibrium"}, {"ratio", 1e-4}};
     if (!test.stage_params[k].empty()) load_stage.insert("joints", toml::table{{"specimen_joint", test.stage_params[k]}});
-    stages.push_back(std::move(load_stage));
-    stages.push_back(toml::table{{"name", shear}, {"damping", "local"}, {"until", "duration"}, {"duration", "auto"}});
-    shear_stages.push_back(shear);
-    normal_stresses.push_back(q(st.normal_stress, "Pa"));
+    out.stages.push_back(std::move(load_stage));
+    out.stages.push_back(toml::table{{"name", shear}, {"damping", "local"}, {"until", "duration"}, {"duration", "auto"}});
+    out.shear_stages.push_back(shear);
+    out.normal_stresses.push_back(q(st.normal_stress, "Pa"));
   }
-  root.insert("boundary", std::move(boundary));
-  root.insert("stages", std::move(stages));
+  return out;
+}
+
+}  // namespace
+
+toml::table direct_shear_case_table(const LabTest& test, const DirectShearOptions& options) {
+  if (!test.rock) {
+    throw InputError(test.file + ": the DEM specimen needs the rock matrix: add density, bulk and shear to [specimen] "
+                                 "(the report's Table 4-1), e.g. density = \"2418.8 kg/m3\", bulk = \"20.96 GPa\", "
+                                 "shear = \"14.41 GPa\"");
+  }
+  const DemSettings& dem = test.dem;
+  const double shear_velocity = options.shear_velocity >= 0.0 ? options.shear_velocity : dem.shear_velocity;
+  const double mass_scaling_dt = options.mass_scaling_dt >= 0.0 ? options.mass_scaling_dt : dem.mass_scaling_dt;
+  const std::size_t nstages = stage_count(test, options);
+  const SpecimenGeometry g = specimen_geometry(test);
+  toml::table root;
+  root.insert("title", (test.title.empty() ? test.specimen : test.title) + " (DEM specimen, Figure 4-7 model)");
+  root.insert("model", toml::table{{"rounding", q(dem.rounding, "m")}, {"detection_tolerance", q(dem.detection_tolerance, "m")}});
+  toml::table time{{"dt_safety", dem.dt_safety}, {"refresh_interval", 10}};
+  if (mass_scaling_dt > 0.0) time.insert("mass_scaling_dt", q(mass_scaling_dt, "s"));
+  root.insert("time", std::move(time));
+  root.insert("materials", toml::array{toml::table{{"name", "rock"},
+                                                   {"model", "elastic"},
+                                                   {"density", q(test.rock->density, "kg/m3")},
+                                                   {"bulk", q(test.rock->bulk, "Pa")},
+                                                   {"shear", q(test.rock->shear, "Pa")}}});
+  root.insert("joints", specimen_joints(test));
+  root.insert("blocks", specimen_blocks(g, dem));
+  SpecimenStages st = specimen_stages(test, nstages, shear_velocity);
+  root.insert("boundary", std::move(st.boundary));
+  root.insert("stages", std::move(st.stages));
   root.insert("direct_shear", toml::table{{"specimen", test.specimen},
-                                          {"joint_length", q(L, "m")},
+                                          {"joint_length", q(g.L, "m")},
                                           {"loader", "loader"},
                                           {"other_loaders", toml::array{"loader_back"}},
                                           {"top", "top"},
                                           {"bottom", "bottom"},
-                                          {"shear_stages", std::move(shear_stages)},
-                                          {"normal_stresses", std::move(normal_stresses)}});
+                                          {"shear_stages", std::move(st.shear_stages)},
+                                          {"normal_stresses", std::move(st.normal_stresses)}});
   root.insert("output", toml::table{{"history_interval", dem.history_interval}});
   return root;
 }

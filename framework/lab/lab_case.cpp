@@ -269,17 +269,10 @@ const toml::array& stage_tables(const toml::table& root, const std::string& file
   return *sa;
 }
 
-LabTest read_lab_test(const std::string& file) {
-  const toml::table root = parse_toml_file(file, "case file");
-  LabTest c;
-  c.file = file;
-  check_keys(root, file, "", {"title", "specimen", "element", "dem", "joint", "stage"});
-  if (const auto* tn = root.get("title")) {
-    if (!tn->is_string()) throw InputError(where_of(*tn, file, "title") + ": title must be a string");
-    c.title = tn->as_string()->get();
-  }
+namespace {
 
-  // [specimen]
+// [specimen]: the name, the joint length and the rock matrix (all three moduli or none).
+void read_specimen_table(const toml::table& root, const std::string& file, LabTest& c) {
   if (const auto* t = optional_table(root, file, "specimen")) {
     if (const auto* sp = t->get("name")) {
       if (!sp->is_string()) throw InputError(where_of(*sp, file, "specimen.name") + ": name must be a string");
@@ -294,8 +287,10 @@ LabTest read_lab_test(const std::string& file) {
       throw InputError(table_where(*t, file, "specimen") + ": the rock matrix needs all of density, bulk and shear (> 0), or none");
   }
   if (c.specimen.empty()) c.specimen = fs::path(file).stem().string();
+}
 
-  // [element]
+// [element] and [dem]: the element driver's and the DEM specimen's settings (defaults if absent).
+void read_element_and_dem_tables(const toml::table& root, const std::string& file, LabTest& c) {
   {
     const auto* t = optional_table(root, file, "element");
     const auto s = t ? bind_params<ElementSettings>(raw_values(*t, file, "element"), "[element]", table_where(*t, file, "element"))
@@ -305,7 +300,6 @@ LabTest read_lab_test(const std::string& file) {
     c.frame_stiffness = s.frame_stiffness;
     c.frame_mass = s.frame_mass;
   }
-  // [dem]
   {
     const auto* t = optional_table(root, file, "dem");
     const auto s = t ? bind_params<DemTable>(raw_values(*t, file, "dem"), "[dem]", table_where(*t, file, "dem"))
@@ -313,22 +307,10 @@ LabTest read_lab_test(const std::string& file) {
     c.dem = DemSettings{s.zone_size,       s.rounding,        s.detection_tolerance, s.shear_velocity,
                         s.mass_scaling_dt, s.dt_safety,       s.history_interval};
   }
+}
 
-  // [joint]
-  const auto* jn = root.get("joint");
-  if (!jn || !jn->is_table()) {
-    throw InputError(file + ": missing table [joint] with law = \"<name>\" and [joint.params]; laws: " +
-                     JointLawRegistry::instance().names_joined());
-  }
-  const auto& jt = *jn->as_table();
-  check_keys(jt, file, "joint", {"law", "effects", "params"});
-  const auto* law_node = jt.get("law");
-  if (!law_node || !law_node->is_string()) {
-    throw InputError(table_where(jt, file, "joint") + ": 'law' must name a joint law in quotes; valid names: " +
-                     JointLawRegistry::instance().names_joined());
-  }
-  c.law = law_node->as_string()->get();
-  const std::string law_where = where_of(*law_node, file, "joint.law");
+// [joint] effects: each a name or a table {name = "...", <parameters>}.
+std::vector<EffectSpec> read_effects(const toml::table& jt, const std::string& file, LabTest& c) {
   std::vector<EffectSpec> effects;
   if (const auto* en = jt.get("effects")) {
     const auto* arr = en->as_array();
@@ -351,19 +333,49 @@ LabTest read_lab_test(const std::string& file) {
       effects.push_back(std::move(es));
     }
   }
+  return effects;
+}
+
+// What the [[stage]] tables need of the joint: its parameters (which a stage's params override)
+// and its effects.
+struct JointTable {
   RawValues law_params;
+  std::vector<EffectSpec> effects;
+};
+
+// [joint]: the law, its effects and parameters; builds the joint model.
+JointTable read_joint_table(const toml::table& root, const std::string& file, LabTest& c) {
+  const auto* jn = root.get("joint");
+  if (!jn || !jn->is_table()) {
+    throw InputError(file + ": missing table [joint] with law = \"<name>\" and [joint.params]; laws: " +
+                     JointLawRegistry::instance().names_joined());
+  }
+  const auto& jt = *jn->as_table();
+  check_keys(jt, file, "joint", {"law", "effects", "params"});
+  const auto* law_node = jt.get("law");
+  if (!law_node || !law_node->is_string()) {
+    throw InputError(table_where(jt, file, "joint") + ": 'law' must name a joint law in quotes; valid names: " +
+                     JointLawRegistry::instance().names_joined());
+  }
+  c.law = law_node->as_string()->get();
+  const std::string law_where = where_of(*law_node, file, "joint.law");
+  JointTable joint;
+  joint.effects = read_effects(jt, file, c);
   std::string params_where = table_where(jt, file, "joint");
   if (const auto* pn = jt.get("params")) {
     const auto* pt = pn->as_table();
     if (!pt) throw InputError(where_of(*pn, file, "joint.params") + ": params must be a table [joint.params]");
-    law_params = raw_values(*pt, file, "joint.params");
+    joint.law_params = raw_values(*pt, file, "joint.params");
     params_where = table_where(*pt, file, "joint.params");
     c.joint_params = *pt;
   }
   JointLawRegistry::instance().get(c.law, "joint law", law_where);
-  c.model = located(file, params_where, [&] { return make_joint_model(c.law, law_params, effects, params_where); });
+  c.model = located(file, params_where, [&] { return make_joint_model(c.law, joint.law_params, joint.effects, params_where); });
+  return joint;
+}
 
-  // [[stage]]
+// [[stage]]: each stage's path, and its own joint model where its params override the joint's.
+void read_stage_tables(const toml::table& root, const std::string& file, const JointTable& joint, LabTest& c) {
   int index = 0;
   for (const auto& node : stage_tables(root, file)) {
     ++index;
@@ -374,16 +386,33 @@ LabTest read_lab_test(const std::string& file) {
     if (const auto* pn = t.get("params")) {
       const auto* pt = pn->as_table();
       if (!pt) throw InputError(where_of(*pn, file, path + ".params") + ": params must be a table [stage.params]");
-      RawValues merged = law_params;
+      RawValues merged = joint.law_params;
       for (auto& [k, v] : raw_values(*pt, file, path + ".params")) merged[k] = v;
       const std::string pw = table_where(*pt, file, path + ".params");
-      c.stage_models.push_back(located(file, pw, [&] { return make_joint_model(c.law, merged, effects, pw); }));
+      c.stage_models.push_back(located(file, pw, [&] { return make_joint_model(c.law, merged, joint.effects, pw); }));
       st.model = c.stage_models.back().get();
       overrides = *pt;
     }
     c.stage_params.push_back(std::move(overrides));
     c.stages.push_back(std::move(st));
   }
+}
+
+}  // namespace
+
+LabTest read_lab_test(const std::string& file) {
+  const toml::table root = parse_toml_file(file, "case file");
+  LabTest c;
+  c.file = file;
+  check_keys(root, file, "", {"title", "specimen", "element", "dem", "joint", "stage"});
+  if (const auto* tn = root.get("title")) {
+    if (!tn->is_string()) throw InputError(where_of(*tn, file, "title") + ": title must be a string");
+    c.title = tn->as_string()->get();
+  }
+  read_specimen_table(root, file, c);
+  read_element_and_dem_tables(root, file, c);
+  const JointTable joint = read_joint_table(root, file, c);
+  read_stage_tables(root, file, joint, c);
   return c;
 }
 

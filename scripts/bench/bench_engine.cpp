@@ -39,6 +39,7 @@
 #include <vector>
 
 #include "framework/boundary/conditions.hpp"
+#include "framework/boundary/fixed_condition.hpp"
 #include "framework/geometry/mesh.hpp"
 #include "framework/geometry/polygon.hpp"
 #include "framework/mechanics/engine.hpp"

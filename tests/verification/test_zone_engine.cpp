@@ -8,6 +8,8 @@
 #include <cmath>
 
 #include "framework/boundary/conditions.hpp"
+#include "framework/boundary/fixed_condition.hpp"
+#include "framework/boundary/traction_condition.hpp"
 #include "framework/mechanics/engine.hpp"
 #include "framework/mechanics/zones.hpp"
 #include "models/rock/elastic.hpp"

@@ -11,6 +11,9 @@
 #include <cstring>
 
 #include "framework/boundary/conditions.hpp"
+#include "framework/boundary/fixed_condition.hpp"
+#include "framework/boundary/traction_condition.hpp"
+#include "framework/boundary/velocity_condition.hpp"
 #include "framework/mechanics/engine.hpp"
 #include "framework/mechanics/zones.hpp"
 #include "models/rock/mohr_coulomb_rock.hpp"
