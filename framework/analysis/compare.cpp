@@ -10,6 +10,7 @@
 #include <tuple>
 
 #include "framework/core/error.hpp"
+#include "framework/core/names.hpp"
 
 namespace rockdem {
 namespace {
@@ -23,8 +24,7 @@ std::string fmt(const char* f, double v) {
 }
 
 std::string stage_list(const Segmentation& s) {
-  std::string out;
-  for (const auto& st : s.stages) out += (out.empty() ? "" : ", ") + std::to_string(st.stage);
+  const std::string out = join_names(s.stages, [](const auto& st) { return std::to_string(st.stage); });
   return out.empty() ? "none" : out;
 }
 
