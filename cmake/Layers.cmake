@@ -40,18 +40,19 @@ set(ROCKDEM_LAYER_app_USES simulation analysis seismic)
 set(ROCKDEM_LAYER_models_DIR models)                    # plug-ins: joint laws, effects, rock materials
 set(ROCKDEM_LAYER_models_USES plugin_api)
 
-# ROCKDEM_LAYER_<name>_BELOW: every layer <name> may include, itself excluded (transitive USES).
+# ROCKDEM_LAYER_<name>_BELOW: every layer <name> may include, itself excluded: the layers it
+# uses, the layers those use, and so on (a breadth-first walk over USES).
 foreach(layer IN LISTS ROCKDEM_LAYERS)
-  set(todo ${ROCKDEM_LAYER_${layer}_USES})
+  set(queue ${ROCKDEM_LAYER_${layer}_USES})
   set(below "")
-  while(todo)
-    list(POP_FRONT todo l)
-    if(NOT l IN_LIST ROCKDEM_LAYERS)
-      message(FATAL_ERROR "cmake/Layers.cmake: layer '${layer}' uses '${l}', which is not a layer")
+  while(queue)
+    list(POP_FRONT queue used)
+    if(NOT used IN_LIST ROCKDEM_LAYERS)
+      message(FATAL_ERROR "cmake/Layers.cmake: layer '${layer}' uses '${used}', which is not a layer")
     endif()
-    if(NOT l IN_LIST below)
-      list(APPEND below ${l})
-      list(APPEND todo ${ROCKDEM_LAYER_${l}_USES})
+    if(NOT used IN_LIST below)
+      list(APPEND below ${used})
+      list(APPEND queue ${ROCKDEM_LAYER_${used}_USES})
     endif()
   endwhile()
   set(ROCKDEM_LAYER_${layer}_BELOW ${below})
