@@ -3,8 +3,9 @@
 // and registers itself; main() only dispatches.
 #include <CLI/CLI.hpp>
 #include <functional>
-#include <map>
 #include <string>
+
+#include "framework/core/registry.hpp"
 
 namespace rockdem {
 
@@ -17,17 +18,13 @@ struct Command {
   std::function<std::function<int()>(CLI::App& sub)> setup;
 };
 
-class CommandRegistry {
+// Subcommands by name, listed alphabetically.
+class CommandRegistry : public NamedTable<Command> {
  public:
   static CommandRegistry& instance() {
     static CommandRegistry r;
     return r;
   }
-  void add(Command c) { commands_[c.name] = std::move(c); }
-  const std::map<std::string, Command>& commands() const { return commands_; }
-
- private:
-  std::map<std::string, Command> commands_;
 };
 
 struct CommandRegistrar {

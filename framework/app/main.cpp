@@ -16,7 +16,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   std::function<int()> action;
   const int rank = mpi.rank();
-  for (const auto& [name, cmd] : rockdem::CommandRegistry::instance().commands()) {
+  for (const auto& [name, cmd] : rockdem::CommandRegistry::instance().entries()) {
     CLI::App* sub = app.add_subcommand(name, cmd.summary);
     auto run = cmd.setup(*sub);
     const bool all = cmd.runs_on_all_ranks;

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "framework/boundary/conditions.hpp"
+#include "framework/core/registry.hpp"
 #include "framework/core/units.hpp"
 
 namespace rockdem {
@@ -61,29 +62,23 @@ struct ConditionKind {
 // Kinds in the order of their ranks (the order messages and documentation list them in). Kinds
 // register from several source files, whose static initialisation order is not defined, so each
 // declares its place in the list rather than relying on when it registers.
-class ConditionKinds {
+class ConditionKinds : public NamedTable<ConditionKind> {
  public:
   static ConditionKinds& instance();
-  // Inserts `kind` after every kind of lower or equal rank.
-  void add(int rank, ConditionKind kind);
-  const ConditionKind* find(const std::string& name) const;
   // Throws an InputError at `where` listing the valid kinds when `name` is unknown.
-  const ConditionKind& get(const std::string& name, const std::string& where) const;
-  const std::vector<ConditionKind>& kinds() const { return kinds_; }
+  const ConditionKind& get(const std::string& name, const std::string& where) const {
+    return NamedTable::get(name, "boundary type", where, "valid: ");
+  }
   // The first kind's declaration of `key` (kinds that share a key read it alike), or null.
   const ConditionKey* key(const std::string& name) const;
   // The keys of all kinds, each once, in the order of the kinds.
   std::vector<std::string> key_names() const;
-
- private:
-  std::vector<ConditionKind> kinds_;
-  std::vector<int> ranks_;  // ranks_[i] is the rank of kinds_[i], ascending
 };
 
 // Registers a kind at static initialisation, at its rank in the list of kinds:
 // `const ConditionKindRegistrar r{rank, ConditionKind{...}};`
 struct ConditionKindRegistrar {
-  ConditionKindRegistrar(int rank, ConditionKind kind) { ConditionKinds::instance().add(rank, std::move(kind)); }
+  ConditionKindRegistrar(int rank, ConditionKind kind) { ConditionKinds::instance().add(std::move(kind), rank); }
 };
 
 }  // namespace rockdem

@@ -5,6 +5,7 @@
 // Besides the factory, an entry carries what a kind of product declares about itself for the
 // tools that use it (`Declarations`, e.g. which parameters calibration keeps fixed), so that
 // those tools keep no list of names either.
+#include <algorithm>
 #include <functional>
 #include <map>
 #include <memory>
@@ -20,45 +21,80 @@
 
 namespace rockdem {
 
+// Named entries filled at static initialisation by registrars beside each definition (joint
+// laws, effects, rock materials, boundary-condition kinds, history quantities, subcommands):
+// lookup by name, an unknown name answered with the valid ones (OpenFOAM-style), and one listing
+// order. Entries are listed by rank, then by name: a table whose entries register from several
+// source files (whose initialisation order is not defined) keeps a chosen order through ranks;
+// with the default rank the order is alphabetical. Entries are held in a map, so pointers to
+// them stay valid while others register.
+template <class Entry>
+class NamedTable {
+ public:
+  // Adds `e`, or replaces the entry of the same name.
+  void add(Entry e, int rank = 0) {
+    const std::string name = e.name;
+    entries_.insert_or_assign(name, Ranked{rank, std::move(e)});
+    std::vector<const Ranked*> listed;
+    for (const auto& [n, r] : entries_) listed.push_back(&r);  // name order
+    std::stable_sort(listed.begin(), listed.end(), [](const Ranked* a, const Ranked* b) { return a->rank < b->rank; });
+    order_.clear();
+    for (const Ranked* r : listed) order_.push_back({r->entry.name, r->entry});
+  }
+  const Entry* find(const std::string& name) const {
+    auto it = entries_.find(name);
+    return it == entries_.end() ? nullptr : &it->second.entry;
+  }
+  // Throws "<where>: unknown <what> '<name>'; <valid><the names>" when the name is unknown.
+  const Entry& get(const std::string& name, const std::string& what, const std::string& where,
+                   const std::string& valid = "valid names: ") const {
+    if (const Entry* e = find(name)) return *e;
+    throw InputError(where + ": unknown " + what + " '" + name + "'; " + valid + names_joined());
+  }
+  // The entries in listing order: `for (const auto& [name, entry] : table.entries())`.
+  struct Listed {
+    const std::string& name;
+    const Entry& entry;
+  };
+  const std::vector<Listed>& entries() const { return order_; }
+  std::vector<std::string> names() const {
+    std::vector<std::string> out;
+    for (const Listed& l : order_) out.push_back(l.name);
+    return out;
+  }
+  std::string names_joined() const { return join_names(order_, [](const Listed& l) -> const std::string& { return l.name; }); }
+
+ private:
+  struct Ranked {
+    int rank = 0;
+    Entry entry;
+  };
+  std::map<std::string, Ranked> entries_;
+  std::vector<Listed> order_;
+};
+
 // A product that declares nothing beyond its parameters.
 struct NoDeclarations {};
 
 template <class Product, class Declarations = NoDeclarations>
-class Registry {
- public:
-  struct Entry {
-    std::string name;
-    std::string summary;
-    std::string reference;
-    std::vector<ParamInfo> params;
-    std::function<std::unique_ptr<Product>(const RawValues&, const std::string& where)> make;
-    Declarations declared{};
-  };
+struct RegistryEntry {
+  std::string name;
+  std::string summary;
+  std::string reference;
+  std::vector<ParamInfo> params;
+  std::function<std::unique_ptr<Product>(const RawValues&, const std::string& where)> make;
+  Declarations declared{};
+};
 
+// Name -> factory registry of one kind of plug-in.
+template <class Product, class Declarations = NoDeclarations>
+class Registry : public NamedTable<RegistryEntry<Product, Declarations>> {
+ public:
+  using Entry = RegistryEntry<Product, Declarations>;
   static Registry& instance() {
     static Registry r;
     return r;
   }
-  void add(Entry e) { entries_[e.name] = std::move(e); }
-  const Entry* find(const std::string& name) const {
-    auto it = entries_.find(name);
-    return it == entries_.end() ? nullptr : &it->second;
-  }
-  // Throws an InputError listing the valid names (OpenFOAM-style) when the name is unknown.
-  const Entry& get(const std::string& name, const std::string& what, const std::string& where) const {
-    if (const Entry* e = find(name)) return *e;
-    throw InputError(where + ": unknown " + what + " '" + name + "'; valid names: " + names_joined());
-  }
-  std::vector<std::string> names() const {
-    std::vector<std::string> out;
-    for (const auto& [n, e] : entries_) out.push_back(n);
-    return out;
-  }
-  std::string names_joined() const { return join_keys(entries_); }
-  const std::map<std::string, Entry>& entries() const { return entries_; }
-
- private:
-  std::map<std::string, Entry> entries_;
 };
 
 }  // namespace rockdem

@@ -11,21 +11,6 @@ HistoryQuantities& HistoryQuantities::instance() {
   return q;
 }
 
-void HistoryQuantities::add(HistoryQuantity q) {
-  const std::string name = q.name;
-  quantities_[name] = std::move(q);
-}
-
-const HistoryQuantity* HistoryQuantities::find(const std::string& name) const {
-  auto it = quantities_.find(name);
-  return it == quantities_.end() ? nullptr : &it->second;
-}
-
-const HistoryQuantity& HistoryQuantities::get(const std::string& name, const std::string& where) const {
-  if (const HistoryQuantity* q = find(name)) return *q;
-  throw InputError(where + ": unknown quantity '" + name + "'; valid: " + join_keys(quantities_));
-}
-
 namespace {
 
 double contact_force(const Model&, const Engine& e, const HistoryTarget& t) {

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "framework/core/registry.hpp"
 #include "framework/model/model.hpp"
 
 namespace rockdem {
@@ -44,17 +45,13 @@ struct HistoryQuantity {
 };
 
 // Quantities by name; listed (in messages) in name order.
-class HistoryQuantities {
+class HistoryQuantities : public NamedTable<HistoryQuantity> {
  public:
   static HistoryQuantities& instance();
-  void add(HistoryQuantity q);
-  const HistoryQuantity* find(const std::string& name) const;
   // Throws an InputError at `where` listing the valid names when `name` is unknown.
-  const HistoryQuantity& get(const std::string& name, const std::string& where) const;
-  const std::map<std::string, HistoryQuantity>& quantities() const { return quantities_; }
-
- private:
-  std::map<std::string, HistoryQuantity> quantities_;
+  const HistoryQuantity& get(const std::string& name, const std::string& where) const {
+    return NamedTable::get(name, "quantity", where, "valid: ");
+  }
 };
 
 // Registers a quantity at static initialisation: `const HistoryQuantityRegistrar r{HistoryQuantity{...}};`
