@@ -15,10 +15,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Reading context: the file name for messages and the folder relative paths start from.
+// Reading context: the file name for messages and the folder relative paths start from. It
+// refers to the CaseReader's strings (each of its methods makes one on entry), so making one
+// copies nothing.
 struct Reader {
-  std::string file;
-  std::string base_dir;
+  const std::string& file;
+  const std::string& base_dir;
 
   std::string at(const toml::node& n, const std::string& key) const {
     return file + ":" + std::to_string(n.source().begin.line) + " key '" + key + "'";
