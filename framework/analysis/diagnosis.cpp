@@ -206,7 +206,10 @@ std::vector<CovariateScore> score_covariates(const Covariates& cov, const std::a
   return out;
 }
 
-RecordFeatures record_features(const MeasurementFile& data, const Segmentation& seg) {
+namespace {
+
+// The record's features, with its row covariates already computed (diagnose has them).
+RecordFeatures features_of(const MeasurementFile& data, const Segmentation& seg, const Covariates& c) {
   RecordFeatures f;
   for (const auto& l : seg.labels) {
     f.reverse_rows += l.direction < 0 ? 1 : 0;
@@ -214,7 +217,6 @@ RecordFeatures record_features(const MeasurementFile& data, const Segmentation& 
     f.positive_side_rows += (l.quadrant == 1 || l.quadrant == 4) ? 1 : 0;
   }
   for (const auto& s : seg.stages) f.cycles += s.cycles;
-  const Covariates c = row_covariates(data, seg);
   std::vector<double> moving;
   for (double v : c.values[4])
     if (v > 0.0) moving.push_back(v);
@@ -232,6 +234,12 @@ RecordFeatures record_features(const MeasurementFile& data, const Segmentation& 
     f.stages.push_back(st);
   }
   return f;
+}
+
+}  // namespace
+
+RecordFeatures record_features(const MeasurementFile& data, const Segmentation& seg) {
+  return features_of(data, seg, row_covariates(data, seg));
 }
 
 std::string unjudgeable_reason(const std::string& effect, const RecordFeatures& features) {
@@ -260,9 +268,9 @@ class DiagnosisRun {
     check_record_length();
     fit_baseline();
     // Covariates of the baseline's residual.
-    d_.covariates = score_covariates(row_covariates(data_, seg_), signed_residuals(data_, seg_, d_.baseline.comparison),
-                                     options_.bins);
-    try_each_effect();
+    const Covariates covariates = row_covariates(data_, seg_);
+    d_.covariates = score_covariates(covariates, signed_residuals(data_, seg_, d_.baseline.comparison), options_.bins);
+    try_each_effect(features_of(data_, seg_, covariates));
     mark_insensitive_effects();
     rank_effects();
     climb_ladder();
@@ -310,13 +318,12 @@ class DiagnosisRun {
   }
 
   // Every effect, added alone and refitted with the base law's free parameters.
-  void try_each_effect() {
+  void try_each_effect(const RecordFeatures& features) {
     std::vector<std::string> effects = options_.effects;
     if (effects.empty()) {
       for (const auto& [name, entry] : EffectRegistry::instance().entries())
         if (entry.declared.physical) effects.push_back(name);
     }
-    const RecordFeatures features = record_features(data_, seg_);
     // Two effects at a time on two cores, each fit single-threaded (nested threads would oversubscribe).
     const int outer = std::max(1, std::min<int>(options_.threads, static_cast<int>(effects.size())));
     const int inner = std::max(1, options_.threads / outer);
