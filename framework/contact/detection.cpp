@@ -42,7 +42,26 @@ struct Projection {
   double s = 0.0;
   double dist = 0.0;  // signed: positive outside the other block
   Vec2 normal = Vec2::UnitY();
+  bool arc = false;   // measured against the rounding arc of a convex corner ...
+  Vec2 centre = Vec2::Zero();  // ... with this centre
+  double radius = 0.0;         // and radius
 };
+
+// Tangent length t and radius r of the rounding at a vertex where the unit boundary direction turns
+// from e1 to e2 (left turns are convex on a counter-clockwise loop), with rounding length d and
+// adjacent edge lengths l1, l2; tan(th/2) = sin th / (1 + cos th). Only real corners are rounded:
+// a boundary gridpoint of a deformable block on a straight face turns by a tiny angle, and
+// rounding it would bend the normal of points that merely pass over it.
+constexpr double kSin5 = 0.08715574274765817;  // sin(5 degrees)
+
+void corner_rounding(const Vec2& e1, const Vec2& e2, double l1, double l2, double d, double& t, double& r) {
+  t = r = 0.0;
+  const double sn = cross(e1, e2), cs = e1.dot(e2);
+  if (d <= 0.0 || sn <= 0.0 || (cs > 0.0 && sn < kSin5)) return;
+  const double h = sn / (1.0 + cs);
+  t = std::min({d * h, 0.5 * l1, 0.5 * l2});
+  r = t / h;
+}
 
 
 // Signed distance and normal of p relative to boundary edge i of b, with convex corners rounded
@@ -53,8 +72,6 @@ struct Projection {
 // keeps that face's normal rather than jumping to the other face. Flat and concave vertices are
 // not rounded; beyond their ends the normal points from the vertex to the point when the point
 // is outside both edges, else it is the mean of the two edge normals.
-constexpr double kSin5 = 0.08715574274765817;  // sin(5 degrees)
-
 Projection project_rounded(const Model& m, const Block& b, const Vec2& p, int i, double d) {
   const int n = static_cast<int>(b.boundary.size());
   const Vec2& a = m.gp[b.boundary[i]].x;
@@ -65,24 +82,9 @@ Projection project_rounded(const Model& m, const Block& b, const Vec2& p, int i,
   const Vec2 u = (c - a) / len;
   const Vec2 nrm(u.y(), -u.x());
   const Vec2 up = (a - ap).normalized(), un = (cn - c).normalized();
-  // Tangent length and radius of the rounding at a vertex turning by angle th (left turns are
-  // convex on a counter-clockwise loop).
-  // Tangent length and radius of the rounding at a vertex where the unit direction turns from e1
-  // to e2 (left turns are convex on a counter-clockwise loop); tan(th/2) = sin th / (1 + cos th).
-  auto rounding = [&](const Vec2& e1, const Vec2& e2, double l1, double l2, double& t, double& r) {
-    t = r = 0.0;
-    // Only real corners are rounded: a boundary gridpoint of a deformable block on a straight
-    // face turns by a tiny angle, and rounding it with radius d would bend the normal of points
-    // that merely pass over it.
-    const double sn = cross(e1, e2), cs = e1.dot(e2);
-    if (d <= 0.0 || sn <= 0.0 || (cs > 0.0 && sn < kSin5)) return;
-    const double h = sn / (1.0 + cs);
-    t = std::min({d * h, 0.5 * l1, 0.5 * l2});
-    r = t / h;
-  };
   double ta, ra, tb, rb;
-  rounding(up, u, len, (a - ap).norm(), ta, ra);
-  rounding(u, un, len, (cn - c).norm(), tb, rb);
+  corner_rounding(up, u, (a - ap).norm(), len, d, ta, ra);
+  corner_rounding(u, un, len, (cn - c).norm(), d, tb, rb);
   const double xi = (p - a).dot(u);
   Projection pr;
   pr.edge = i;
@@ -92,6 +94,9 @@ Projection project_rounded(const Model& m, const Block& b, const Vec2& p, int i,
     const double qn = q.norm();
     pr.normal = qn > 1e-14 ? Vec2(q / qn) : nrm;
     pr.dist = qn - r;
+    pr.arc = true;
+    pr.centre = centre;
+    pr.radius = r;
   };
   const Vec2 nprev(up.y(), -up.x()), nnext(un.y(), -un.x());
   const Vec2 ca = a + ta * u - ra * nrm, cb = c - tb * u - rb * nrm;
@@ -118,47 +123,76 @@ Projection project_rounded(const Model& m, const Block& b, const Vec2& p, int i,
   return pr;
 }
 
-// Outward normal of the boundary at gridpoint loop position k of block a if the boundary is flat
-// there (the two edges turn by less than ~5 degrees); zero for a corner.
-Vec2 flat_normal(const Model& m, const Block& a, int k) {
+// The point's own side of a contact: the outward normal of the boundary at loop position k of
+// block a along the given side (ContactKey::side), and the other end of that own edge. Where the
+// boundary is flat (the two edges turn by less than ~5 degrees, e.g. a gridpoint in the middle of
+// a deformable block's face) the point has one side, 0, with the mean normal of its two edges.
+struct OwnSide {
+  Vec2 normal = Vec2::Zero();
+  Vec2 far = Vec2::Zero();  // other end of the own edge (a corner's) along this side
+  bool flat = false;
+};
+
+OwnSide own_side(const Model& m, const Block& a, int k, int side) {
   const int n = static_cast<int>(a.boundary.size());
   const Vec2& p = m.gp[a.boundary[k]].x;
-  const Vec2 e1 = (p - m.gp[a.boundary[(k - 1 + n) % n]].x).normalized();
-  const Vec2 e2 = (m.gp[a.boundary[(k + 1) % n]].x - p).normalized();
-  if (e1.dot(e2) < std::cos(5.0 * M_PI / 180.0)) return Vec2::Zero();
-  return Vec2(e1.y() + e2.y(), -(e1.x() + e2.x())).normalized();
+  const Vec2& prev = m.gp[a.boundary[(k - 1 + n) % n]].x;
+  const Vec2& next = m.gp[a.boundary[(k + 1) % n]].x;
+  const Vec2 e1 = (p - prev).normalized(), e2 = (next - p).normalized();
+  OwnSide o;
+  if (e1.dot(e2) >= std::cos(5.0 * M_PI / 180.0)) {
+    o.flat = true;
+    o.normal = Vec2(e1.y() + e2.y(), -(e1.x() + e2.x())).normalized();
+    o.far = next;
+    return o;
+  }
+  const Vec2& e = side == 0 ? e1 : e2;
+  o.normal = Vec2(e.y(), -e.x());
+  o.far = side == 0 ? prev : next;
+  return o;
 }
 
-// Face-to-face pairing. A gridpoint on a flat part of its block's boundary meets the other block
-// across the joint plane: its contact uses the other block's face whose outward normal is opposite
-// to its own, extended beyond the face's ends, with that face's normal. The contact length (the
-// point's tributary clipped to the other face's extent) then grows or shrinks continuously as an
-// edge of the other block slides over the point, and the normal never swings around a corner of
-// the other block because of the small elastic interpenetration of the joint (which otherwise
-// gives the point a sideways normal as a block corner passes over it).
-bool face_projection(const Model& m, const Block& b, const Vec2& p, const Vec2& own, int e, double w, Projection& pr) {
+// Face-to-face pairing. A point meets the other block across a joint plane when one of its own
+// edges faces an edge of the other block: outward normals opposite within about 20 degrees, and,
+// for a corner, the two edges sharing more than a sliver of their extent along the joint (`min_share`).
+// The contact then uses that edge of the other block, extended beyond its ends, with its normal.
+// This is the two-dimensional common plane of the touching faces (Cundall 1988's common plane for
+// 3DEC): two equal blocks stacked corner on corner, a T-junction or a corner nested in a concave
+// corner all meet along the right plane, and the normal never swings around a corner of the other
+// block because of the small elastic interpenetration of the joint. A corner whose edges face
+// nothing (a tip pressed into a tip, a corner into a face at an angle) is left to the rounded
+// corners (closest_edge).
+bool face_projection(const Model& m, const Block& b, const Vec2& p, const OwnSide& own, int e, double w,
+                     double min_share, Projection& pr) {
   const int n = static_cast<int>(b.boundary.size());
   const Vec2& a = m.gp[b.boundary[e]].x;
   const Vec2& c = m.gp[b.boundary[(e + 1) % n]].x;
   const double len = (c - a).norm();
   const Vec2 u = (c - a) / len;
   const Vec2 nrm(u.y(), -u.x());
-  if (nrm.dot(own) > -0.94) return false;  // not facing (more than ~20 degrees apart)
+  if (nrm.dot(own.normal) > -0.94) return false;  // not facing (more than ~20 degrees apart)
   const double xi = (p - a).dot(u);
   if (xi < -w || xi > len + w) return false;
+  if (!own.flat) {
+    const double xf = (own.far - a).dot(u);
+    const double share = std::min(std::max(xi, xf), len) - std::max(std::min(xi, xf), 0.0);
+    if (share <= min_share) return false;
+  }
   pr.edge = e;
   pr.s = std::clamp(xi / len, 0.0, 1.0);
   pr.normal = nrm;
   pr.dist = (p - a).dot(nrm);
+  pr.arc = false;
   return true;
 }
 
-Projection closest_face(const Model& m, const Block& b, const Vec2& p, const Vec2& own, double w, bool& found) {
+Projection closest_face(const Model& m, const Block& b, const Vec2& p, const OwnSide& own, double w, bool& found) {
   Projection best, pr;
   found = false;
   const int n = static_cast<int>(b.boundary.size());
   for (int i = 0; i < n; ++i)
-    if (face_projection(m, b, p, own, i, w, pr) && std::abs(pr.dist) <= w && (!found || std::abs(pr.dist) < std::abs(best.dist))) {
+    if (face_projection(m, b, p, own, i, w, 0.01 * w, pr) && std::abs(pr.dist) <= w &&
+        (!found || std::abs(pr.dist) < std::abs(best.dist))) {
       best = pr;
       found = true;
     }
@@ -184,6 +218,32 @@ Projection closest_edge(const Model& m, const Block& b, const Vec2& p, double d)
   // A point inside the block is penetrating: make sure the sign says so.
   if (best.dist > 0.0 && inside_polygon(m, b, p)) best.dist = -best.dist;
   return best;
+}
+
+// Corner against corner (UDEC; Cundall 1988): when the point is itself a convex corner of its block
+// and lies in the sector of a rounded corner of the other block, both corners are rounded: the
+// normal runs along the line joining the two rounding centres and the gap is their distance less
+// both radii. The contact of corner a on corner b and that of b on a then have opposite normals;
+// two tips pressed together push along the line joining them; and two corners sliding past each
+// other along a shared joint (the junction of four blocks) never overlap: their gap is smallest,
+// zero, when they are side by side, where the normal is that of the joint.
+void corner_to_corner(const Model& m, const Block& a, int k, double d, Projection& pr) {
+  if (!pr.arc) return;
+  const int n = static_cast<int>(a.boundary.size());
+  const Vec2& p = m.gp[a.boundary[k]].x;
+  const Vec2& prev = m.gp[a.boundary[(k - 1 + n) % n]].x;
+  const Vec2& next = m.gp[a.boundary[(k + 1) % n]].x;
+  const double l1 = (p - prev).norm(), l2 = (next - p).norm();
+  const Vec2 e1 = (p - prev) / l1, e2 = (next - p) / l2;
+  double t, r;
+  corner_rounding(e1, e2, l1, l2, d, t, r);
+  if (r <= 0.0) return;
+  const Vec2 own_centre = p + t * e2 - r * Vec2(e2.y(), -e2.x());
+  const Vec2 join = own_centre - pr.centre;
+  const double jn = join.norm();
+  if (jn < 1e-14) return;
+  pr.normal = join / jn;
+  pr.dist = jn - r - pr.radius;
 }
 
 // Part of segment ab whose distance from the line through p (normal n) is at most w, projected on
@@ -253,40 +313,75 @@ std::size_t detect_contacts(Model& m, const DetectionSettings& s) {
   std::vector<Contact> found;
   found.reserve(m.contacts.items.size() + 16);
   const auto pairs = broad_phase(m, s.distance);
+  // Candidate contacts of one point: one per own side that faces an edge of the other block, or
+  // else one against the rounded boundary (see face_projection and corner_to_corner).
+  struct Candidate {
+    int side;
+    bool face;
+    Projection pr;
+  };
+  auto candidates = [&](const Block& A, int k, const Block& B, Candidate out[2]) -> int {
+    const Vec2& p = m.gp[A.boundary[k]].x;
+    const OwnSide own0 = own_side(m, A, k, 0);
+    const int nsides = own0.flat ? 1 : 2;
+    const OwnSide own[2] = {own0, nsides == 2 ? own_side(m, A, k, 1) : own0};
+    int nf = 0;
+    for (int side = 0; side < nsides; ++side) {
+      bool face = false;
+      const Projection pr = closest_face(m, B, p, own[side], s.distance, face);
+      if (face) out[nf++] = {side, true, pr};
+    }
+    // Both edges of a corner face the other block: two contacts if they meet it along different
+    // planes (a corner nested in a concave corner), else the nearer (a blunt corner on a face).
+    if (nf == 2 && out[0].pr.normal.dot(out[1].pr.normal) > 0.866) {
+      const double d0 = std::abs(out[0].pr.dist), d1 = std::abs(out[1].pr.dist);
+      const bool second = d1 < d0 || (d1 == d0 && own[1].normal.dot(out[1].pr.normal) < own[0].normal.dot(out[0].pr.normal));
+      if (second) out[0] = out[1];
+      nf = 1;
+    }
+    if (nf > 0) return nf;
+    Projection pr = closest_edge(m, B, p, m.contacts.rounding);
+    if (nsides == 2) corner_to_corner(m, A, k, m.contacts.rounding, pr);
+    // Key the contact by the own side that faces it best, so that a contact moving between the
+    // face and the rounded descriptions keeps its key and its state.
+    const int side = nsides == 2 && own[1].normal.dot(pr.normal) < own[0].normal.dot(pr.normal) ? 1 : 0;
+    out[0] = {side, false, pr};
+    return 1;
+  };
   auto scan = [&](int ia, int ib) {
     const Block& A = m.blocks[ia];
     const Block& B = m.blocks[ib];
     const Box bb = block_box(m, B, s.distance);
     const int na = static_cast<int>(A.boundary.size());
+    Candidate cand[2];
     for (int k = 0; k < na; ++k) {
       const int g = A.boundary[k];
       const Vec2& p = m.gp[g].x;
       if (p.x() < bb.lo.x() || p.x() > bb.hi.x() || p.y() < bb.lo.y() || p.y() > bb.hi.y()) continue;
-      const Vec2 own = flat_normal(m, A, k);
-      bool face = false;
-      Projection pr;
-      if (own.squaredNorm() > 0.0) pr = closest_face(m, B, p, own, s.distance, face);
-      if (!face) pr = closest_edge(m, B, p, m.contacts.rounding);
-      if (pr.dist > 10.0 * s.distance) continue;
-      const ContactKey key{A.id, m.gp[g].local, B.id};
-      const Contact* old = m.contacts.find(key);
-      const bool closed = old && !old->response.open && !old->fresh;
-      if (pr.dist > s.distance && !closed) continue;
-      Contact c;
-      c.key = key;
-      c.point = g;
-      c.point_loop = k;
-      c.face_mode = face;
-      c.other = ib;
-      c.edge = pr.edge;
-      c.s = pr.s;
-      c.normal = pr.normal;
-      c.overlap = -pr.dist;
-      c.joint = m.contacts.model_for(A.group, B.group);
-      if (old) c.pretouch_gap = old->pretouch_gap;
-      else c.pretouch_gap = std::max(0.0, pr.dist);  // not yet touching: the law starts when it closes
-      c.pending_closure = old ? old->pending_closure : std::max(0.0, -pr.dist);
-      found.push_back(c);
+      const int nc = candidates(A, k, B, cand);
+      for (int ic = 0; ic < nc; ++ic) {
+        const Projection& pr = cand[ic].pr;
+        if (pr.dist > 10.0 * s.distance) continue;
+        const ContactKey key{A.id, m.gp[g].local, B.id, cand[ic].side};
+        const Contact* old = m.contacts.find(key);
+        const bool closed = old && !old->response.open && !old->fresh;
+        if (pr.dist > s.distance && !closed) continue;
+        Contact c;
+        c.key = key;
+        c.point = g;
+        c.point_loop = k;
+        c.face_mode = cand[ic].face;
+        c.other = ib;
+        c.edge = pr.edge;
+        c.s = pr.s;
+        c.normal = pr.normal;
+        c.overlap = -pr.dist;
+        c.joint = m.contacts.model_for(A.group, B.group);
+        if (old) c.pretouch_gap = old->pretouch_gap;
+        else c.pretouch_gap = std::max(0.0, pr.dist);  // not yet touching: the law starts when it closes
+        c.pending_closure = old ? old->pending_closure : std::max(0.0, -pr.dist);
+        found.push_back(c);
+      }
     }
   };
   for (const auto& [i, j] : pairs) {
@@ -307,14 +402,14 @@ void update_contact_geometry(Model& m) {
     int e = c.edge;
     // Face mode: slide along the facing edges of the other block, staying on the last one beyond
     // the face's end (see face_projection).
-    const Vec2 own = c.face_mode ? flat_normal(m, A, c.point_loop) : Vec2::Zero();
     Projection pr;
-    if (own.squaredNorm() > 0.0 && face_projection(m, B, p, own, e, kInf, pr)) {
+    const OwnSide own = own_side(m, A, c.point_loop, c.key.side);
+    if (c.face_mode && face_projection(m, B, p, own, e, kInf, -kInf, pr)) {
       const int dir = pr.s >= 1.0 ? 1 : -1;
       for (int it = 0; it < n && (dir > 0 ? pr.s >= 1.0 : pr.s <= 0.0); ++it) {
         const int next = (e + dir + n) % n;
         Projection q;
-        if (!face_projection(m, B, p, own, next, kInf, q)) break;
+        if (!face_projection(m, B, p, own, next, kInf, -kInf, q)) break;
         e = next;
         pr = q;
       }
@@ -343,6 +438,7 @@ void update_contact_geometry(Model& m) {
     }
     c.edge = e;
     pr = project_rounded(m, B, p, e, m.contacts.rounding);
+    if (!own.flat) corner_to_corner(m, A, c.point_loop, m.contacts.rounding, pr);
     c.s = pr.s;
     c.normal = pr.normal;
     c.overlap = -pr.dist;
@@ -421,12 +517,15 @@ void update_contact_lengths(Model& m, const DetectionSettings& s) {
     }
     const double base = p.dot(t);
     const bool touching = !c.response.open && c.pretouch_gap <= 0.0;
+    items[i].span = any ? hi - lo : 0.0;
     clusters[ci].spans.push_back({i, base + x0, base + std::max(x0, x1), base, touching});
   }
   // Each touching contact owns its Voronoi cell among the touching contacts of both blocks along
   // the interface, clipped to its own stretch. The cells partition the overlap, and they change
   // continuously as points of one block slide past points of the other or past an edge's end
   // (a newly covered point starts with a cell of zero length, not with half its tributary).
+  // Points at the same place (the coincident corners of two equal blocks stacked) share their cell:
+  // each part of it goes in equal shares to those whose own stretch covers it.
   for (Cluster& cl : clusters) {
     std::vector<const Span*> touching;
     for (const Span& sp : cl.spans) {
@@ -434,12 +533,56 @@ void update_contact_lengths(Model& m, const DetectionSettings& s) {
       else items[sp.c].length = sp.hi - sp.lo;  // carries no stress; kept for output
     }
     std::sort(touching.begin(), touching.end(), [](const Span* a, const Span* b) { return a->at < b->at; });
-    for (std::size_t k = 0; k < touching.size(); ++k) {
-      const Span& sp = *touching[k];
-      double lo = sp.lo, hi = sp.hi;
-      if (k > 0) lo = std::max(lo, 0.5 * (touching[k - 1]->at + sp.at));
-      if (k + 1 < touching.size()) hi = std::min(hi, 0.5 * (sp.at + touching[k + 1]->at));
-      items[sp.c].length = std::max(0.0, hi - lo);
+    const double tie = 1e-9 * w;
+    std::vector<double> cuts;
+    for (std::size_t k = 0; k < touching.size();) {
+      std::size_t end = k + 1;
+      while (end < touching.size() && touching[end]->at - touching[k]->at <= tie) ++end;
+      const double left = k > 0 ? 0.5 * (touching[k - 1]->at + touching[k]->at) : -kInf;
+      const double right = end < touching.size() ? 0.5 * (touching[end - 1]->at + touching[end]->at) : kInf;
+      if (end == k + 1) {
+        const Span& sp = *touching[k];
+        items[sp.c].length = std::max(0.0, std::min(sp.hi, right) - std::max(sp.lo, left));
+      } else {
+        cuts.clear();
+        for (std::size_t q = k; q < end; ++q) {
+          items[touching[q]->c].length = 0.0;
+          cuts.push_back(std::clamp(touching[q]->lo, left, right));
+          cuts.push_back(std::clamp(touching[q]->hi, left, right));
+        }
+        std::sort(cuts.begin(), cuts.end());
+        for (std::size_t q = 0; q + 1 < cuts.size(); ++q) {
+          const double a = cuts[q], b = cuts[q + 1], mid = 0.5 * (a + b);
+          if (b <= a) continue;
+          int cover = 0;
+          for (std::size_t r = k; r < end; ++r) cover += touching[r]->lo <= mid && mid <= touching[r]->hi;
+          for (std::size_t r = k; r < end; ++r)
+            if (touching[r]->lo <= mid && mid <= touching[r]->hi) items[touching[r]->c].length += (b - a) / cover;
+        }
+      }
+      k = end;
+    }
+  }
+  // Hand-over: a contact created already pressed into a joint that carries load (a point that has
+  // slid in under an edge of the other block, or whose neighbour changed owner) takes the law state
+  // of the nearest established contact of the same interface and joint model, so that the mated
+  // position, the stresses and the wear it starts from are the joint's, not a fresh surface's.
+  for (Cluster& cl : clusters) {
+    for (const Span& sp : cl.spans) {
+      Contact& c = items[sp.c];
+      if (!c.fresh || c.pending_closure <= 0.0 || c.pretouch_gap > 0.0) continue;
+      const Contact* donor = nullptr;
+      double best = kInf;
+      for (const Span& o : cl.spans) {
+        const Contact& d = items[o.c];
+        if (d.fresh || !o.touching || d.joint != c.joint || std::abs(o.at - sp.at) >= best) continue;
+        best = std::abs(o.at - sp.at);
+        donor = &d;
+      }
+      if (!donor) continue;
+      c.state = donor->state;
+      c.response = donor->response;
+      c.pending_closure = 0.0;
     }
   }
 }

@@ -3,10 +3,11 @@
 //
 // Broad phase: block bounding boxes binned on a uniform grid (cost ~ linear in the block count).
 // Narrow phase: every boundary gridpoint of one block against the boundary edges of the other, both
-// ways (corner-to-edge; edge-to-edge is the pair of corner contacts at its ends, as in UDEC); a
-// point is in contact while its distance to the other boundary is below the detection distance
-// (rounding length + tolerance). Corners are rounded: a point nearest to a corner of the other
-// block takes the direction from that corner as its normal.
+// ways (edge-to-edge contact is the row of point contacts of both edges, as in UDEC). A point's own
+// edge that faces an edge of the other block pairs with it and takes its normal (the common plane
+// of the two faces); a corner whose edges face nothing is measured against the other block's
+// rounded corners, and two corners against each other push along the line joining their rounding
+// centres (UDEC). docs/engine.md says why.
 //
 // Contact length: each contact owns the part of the interface nearest to it: the two half-edges
 // next to its gridpoint, clipped to the band around the contact line where the other block's

@@ -82,7 +82,10 @@ void Engine::compute_time_step() {
     const double ks = std::max(c.response.ks, m_.contacts.models[c.joint]->initial_ks());
     // Row sum of the contact spring's stiffness matrix: 2*k*L on the point (its diagonal and the
     // coupling to the edge), shared by the projection weights on the edge's two gridpoints.
-    const double kl = 2.0 * std::max(k, ks) * std::max(c.length, 1e-12);
+    // The contact's span, not its current length, bounds the stiffness it can reach before the next
+    // refresh: a contact whose Voronoi cell grows from zero as a block slides must not make the
+    // step unstable, and one of zero length must not leave its point without stiffness.
+    const double kl = 2.0 * std::max(k, ks) * std::max({c.length, c.span, 1e-12});
     const Block& B = m_.blocks[c.other];
     const int n = static_cast<int>(B.boundary.size());
     m_.gp[c.point].stiffness += kl;

@@ -1,9 +1,9 @@
 #pragma once
 // Contact points between blocks. A contact point is a boundary gridpoint (a corner of a rigid block
-// or a boundary gridpoint of a deformable one) against a boundary edge of another block, with the
-// corners rounded by the rounding length d: the point is in contact while its distance to the other
-// block's boundary is below d (Cundall 1988, UDEC rounded corners). Edge-to-edge contact is
-// represented by the corner/gridpoint contacts of both edges.
+// or a boundary gridpoint of a deformable one) against a boundary edge of another block: paired
+// with a facing edge (the common plane of the two faces), or, for a corner that faces no edge,
+// against the other block's boundary with its corners rounded by the rounding length d (Cundall
+// 1988, UDEC). Edge-to-edge contact is represented by the point contacts of both edges.
 //
 // Contacts are keyed by decomposition-free ids (block id of the point, its local gridpoint index,
 // block id of the other block), so the same contact has the same key on any rank count and keeps
@@ -23,11 +23,17 @@ struct ContactKey {
   BlockId point_block = 0;
   LocalIndex point_local = 0;
   BlockId other_block = 0;
+  // Which of the point's own edges the contact acts along: 0 for a point on a flat stretch of its
+  // boundary, or for a corner the edge before it (loop position k-1 -> k); 1 the edge after it.
+  // A corner nested in a concave corner of the other block touches it along both edges and then
+  // has one contact per side.
+  std::int32_t side = 0;
   bool operator==(const ContactKey&) const = default;
   bool operator<(const ContactKey& o) const {
     if (point_block != o.point_block) return point_block < o.point_block;
     if (point_local != o.point_local) return point_local < o.point_local;
-    return other_block < o.other_block;
+    if (other_block != o.other_block) return other_block < o.other_block;
+    return side < o.side;
   }
 };
 
@@ -36,6 +42,7 @@ struct ContactKeyHash {
     std::uint64_t h = static_cast<std::uint64_t>(static_cast<std::uint32_t>(k.point_block));
     h = h * 0x9E3779B97F4A7C15ull ^ static_cast<std::uint32_t>(k.point_local);
     h = h * 0x9E3779B97F4A7C15ull ^ static_cast<std::uint32_t>(k.other_block);
+    h = h * 0x9E3779B97F4A7C15ull ^ static_cast<std::uint32_t>(k.side);
     return static_cast<std::size_t>(h ^ (h >> 29));
   }
 };
@@ -44,12 +51,14 @@ struct Contact {
   ContactKey key;
   int point = 0;        // gridpoint index of the contact point
   int point_loop = 0;   // position of that gridpoint in its block's boundary loop
-  bool face_mode = false;  // flat point paired with a facing edge (see detection.cpp)
+  bool face_mode = false;  // own edge paired with a facing edge of the other block (see detection.cpp)
   int other = 0;        // block index of the other block
   int edge = 0;         // position in the other block's boundary loop of the edge's first point
   double s = 0.0;       // parameter along that edge (0..1) of the projection
   Vec2 normal = Vec2::UnitY();  // unit normal, from the other block toward the point
   double length = 0.0;  // contact length [m]; stresses times length give forces per metre
+  double span = 0.0;    // the most length the contact can take: its own stretch along the joint [m]
+                        // (bounds its stiffness for the stable time step whatever the coverage)
   double overlap = 0.0; // minus the signed distance to the other block's (rounded) boundary [m]
   int joint = 0;        // index of the joint model in ContactStore::models
   double pretouch_gap = 0.0;     // >0: found within the detection distance but not yet touching;

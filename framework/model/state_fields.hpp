@@ -113,16 +113,17 @@ struct Codec<JointStateBlock> {
 };
 
 template <>
-struct Codec<ContactKey> {  // point block, point local index, other block
+struct Codec<ContactKey> {  // point block, point local index, other block, side
   using Element = std::int32_t;
   static constexpr Scalar type = Scalar::i32;
-  static constexpr std::size_t width = 3;
+  static constexpr std::size_t width = 4;
   static void store(const ContactKey& k, Element* out) {
     out[0] = k.point_block;
     out[1] = k.point_local;
     out[2] = k.other_block;
+    out[3] = k.side;
   }
-  static void load(ContactKey& k, const Element* in) { k = {in[0], in[1], in[2]}; }
+  static void load(ContactKey& k, const Element* in) { k = {in[0], in[1], in[2], in[3]}; }
 };
 
 // A field from a captureless accessor `[](auto& item) -> auto& { return item.member; }`; the
@@ -210,6 +211,7 @@ inline constexpr Field<Contact> kContactFields[] = {
     field<Contact>("s", ROCKDEM_MEMBER(s)),
     field<Contact>("normal", ROCKDEM_MEMBER(normal)),
     field<Contact>("length", ROCKDEM_MEMBER(length)),
+    field<Contact>("span", ROCKDEM_MEMBER(span)),
     field<Contact>("overlap", ROCKDEM_MEMBER(overlap)),
     field<Contact>("joint", ROCKDEM_MEMBER(joint)),
     field<Contact>("pretouch_gap", ROCKDEM_MEMBER(pretouch_gap)),

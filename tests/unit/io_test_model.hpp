@@ -91,7 +91,7 @@ inline Model make_io_test_model() {
   cs[1].edge = 2;
   cs[1].s = 0.0;
   // Corner 2 of the base against the top block's bottom edge (boundary position 0).
-  cs[2].key = {0, 2, 1};
+  cs[2].key = {0, 2, 1, 1};
   cs[2].point = 2;
   cs[2].other = 1;
   cs[2].edge = 0;
@@ -149,6 +149,7 @@ inline void fill_io_test_state(Model& m, double seed) {
     c.s = 0.25 * next();
     c.overlap = 1e-4 * next();
     c.length = next();
+    c.span = 1.5 * next();
     for (std::size_t i = 0; i < c.state.bytes.size(); ++i)
       c.state.bytes[i] = static_cast<std::byte>((i * 13 + 7 * static_cast<std::size_t>(ci) + 1) & 0xff);
     c.response.sigma_n = 1e6 * next();

@@ -61,9 +61,9 @@ TEST(Checkpoint, StateStructsHaveTheFieldsTheCheckpointKnows) {
   // (write and read), fill_io_test_state and the comparisons below, then the count here.
   EXPECT_EQ((field_count<GridPoint>()), 11u);
   EXPECT_EQ((field_count<Zone>()), 7u);
-  EXPECT_EQ((field_count<Contact>()), 16u);
+  EXPECT_EQ((field_count<Contact>()), 17u);
   EXPECT_EQ((field_count<JointResponse>()), 10u);
-  EXPECT_EQ((field_count<ContactKey>()), 3u);
+  EXPECT_EQ((field_count<ContactKey>()), 4u);
 }
 
 TEST(Checkpoint, RoundTripIsBitForBit) {
@@ -146,6 +146,7 @@ TEST(Checkpoint, RoundTripIsBitForBit) {
     EXPECT_TRUE(same_bits(p.s, q.s)) << i;
     EXPECT_TRUE(same_bits(p.normal, q.normal)) << i;
     EXPECT_TRUE(same_bits(p.length, q.length)) << i;
+    EXPECT_TRUE(same_bits(p.span, q.span)) << i;
     EXPECT_TRUE(same_bits(p.overlap, q.overlap)) << i;
     EXPECT_EQ(p.joint, q.joint) << i;
     EXPECT_TRUE(same_bits(p.pretouch_gap, q.pretouch_gap)) << i;
