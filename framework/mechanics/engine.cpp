@@ -42,6 +42,16 @@ void Engine::begin_stage(const std::string& name, const Damping& d) {
       bc->setup(m_);
     }
   refresh_contacts();
+  // A time step forced above the stable one would only blow up a few steps later: refuse it now,
+  // with the value that would do.
+  if (s_.fixed_dt > critical_dt_) {
+    std::ostringstream os;
+    os << "[time] fixed_dt = " << s_.fixed_dt << " s is above the stable time step of this model at the start of stage '"
+       << name << "', " << critical_dt_ << " s (2 sqrt(m/k) at its stiffest gridpoint or block); give at most "
+       << critical_dt_ * s_.dt_safety << " s (dt_safety = " << s_.dt_safety
+       << " times the stable step), or leave fixed_dt out for the automatic step";
+    throw InputError(os.str());
+  }
   // The damping reference starts from the blocks' present motion, so that a stage depends only on
   // the model state it starts from (a run restarted from a stage checkpoint repeats it exactly).
   const std::size_t nb = m_.blocks.size();
@@ -132,6 +142,7 @@ void Engine::compute_time_step() {
     if (krot[b] > 0.0) dt = std::min(dt, 2.0 * std::sqrt(inertia / krot[b]));
   }
   if (dt == std::numeric_limits<double>::max()) dt = 1e-3;  // nothing couples yet: free flight
+  critical_dt_ = dt;
   dt *= s_.dt_safety;
   if (s_.fixed_dt > 0.0) dt = s_.fixed_dt;
   if (scaling) dt = std::min(dt, s_.mass_scaling_dt);

@@ -69,6 +69,7 @@ class Engine {
   std::string stage_;
   double stage_time_ = 0.0;
   double dt_ = 0.0;
+  double critical_dt_ = 0.0;  // stable step before dt_safety, at the last refresh
   double ratio_ = 0.0;
   double applied_sum_ = 0.0;
   std::vector<double> inertial_mass_;      // per gridpoint (after mass scaling)

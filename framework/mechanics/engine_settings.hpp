@@ -17,7 +17,7 @@ struct Damping {
 
 struct EngineSettings {
   double dt_safety = 0.5;       // fraction of the critical time step 2 sqrt(m/k)
-  double fixed_dt = 0.0;        // >0: use this time step as given (an unstable choice is caught as a runaway)
+  double fixed_dt = 0.0;        // >0: use this time step (refused at a stage start if above the stable one)
   double mass_scaling_dt = 0.0; // >0: scale inertial masses so this time step is stable
   int refresh_interval = 10;    // steps between contact detections
   DetectionSettings detection;

@@ -83,9 +83,14 @@ expect_missing_case() {
 }
 expect_missing_case
 
-# Unstable: a fixed time step 100 times the critical one. The run must stop, name the step and
-# the block, and leave the last good state behind.
-variant unstable 's/^refresh_interval = 10 .*/refresh_interval = 10\nfixed_dt = "1e-4 s"/'
+# A fixed time step 100 times the critical one is refused before the stage runs, with the
+# stable step.
+variant dt_too_large 's/^refresh_interval = 10 .*/refresh_interval = 10\nfixed_dt = "1e-4 s"/'
+expect dt_too_large 2 "fixed_dt" "above the stable time step" "give at most"
+
+# Unstable: a velocity limit below the loading block's 100 mm/s stands in for a run that blows up.
+# The run must stop, name the step and the block, and leave the last good state behind.
+variant unstable 's/^refresh_interval = 10 .*/refresh_interval = 10\nvelocity_limit = "1 mm\/s"/'
 expect unstable 3 "at step" "of block" "last good state"
 if [ -f "$tmp/out_unstable/last_good_state.h5" ]; then echo "ok   last good state written"; else echo "FAIL no last_good_state.h5"; fail=1; fi
 
