@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "framework/contact/detection.hpp"
 #include "framework/core/error.hpp"
@@ -141,11 +142,72 @@ void CaseBuilder::finish_blocks() {
   assign_joint_groups();
 }
 
+void CaseBuilder::in_situ(const InSituSpec& s) {
+  const Model& m = c_.model;
+  StressField f;
+  f.surcharge = s.surcharge;
+  f.k = s.k;
+  f.sxy = s.sxy;
+  double top = -std::numeric_limits<double>::infinity();
+  for (const auto& g : m.gp) top = std::max(top, g.x.y());
+  const double size = std::max(1.0, std::abs(top));
+  f.surface = s.surface.value_or(top);
+  if (s.surface && *s.surface < top - 1e-9 * size)
+    throw InputError(s.surface_where + ": the datum (surface = " + std::to_string(*s.surface) +
+                     " m) lies below the top of the model (y = " + std::to_string(top) +
+                     " m): the rock above it would be in vertical tension; give surface >= the top of the model");
+  const double g = -m.gravity.y();
+  if (m.gravity.x() != 0.0)
+    throw InputError(s.where + ": the in-situ field grows with depth along y, but [model] gravity has an x component; "
+                     "use a vertical gravity [\"0 m/s2\", \"-9.81 m/s2\"]");
+  auto block_density = [&](const Block& b) { return b.rigid ? b.density : m.materials[m.zones[b.first_zone].material]->density(); };
+  if (g == 0.0) {
+    if (s.density && *s.density > 0.0)
+      throw InputError(s.density_where + ": the model has no gravity, so a stress that grows with depth (density > 0) "
+                       "would not be balanced; leave out density or set [model] gravity");
+    f.density = 0.0;
+  } else {
+    // Only the blocks' own density balances gravity: the field's gradient must be theirs.
+    const double rho = s.density ? *s.density : block_density(m.blocks.front());
+    for (const Block& b : m.blocks)
+      if (std::abs(block_density(b) - rho) > 1e-9 * rho)
+        throw InputError((s.density ? s.density_where : s.where) + ": the field's vertical gradient is density * g with "
+                         "density = " + std::to_string(rho) + " kg/m3, but block '" + b.name + "' has density " +
+                         std::to_string(block_density(b)) + " kg/m3, so gravity would not be balanced; give the "
+                         "blocks' density (a field by region is not available yet)");
+    f.density = rho;
+    f.gravity = g;
+  }
+  c_.in_situ = f;
+}
+
+void CaseBuilder::add_region_boundary(const BoundarySpec& s) {
+  const Model& m = c_.model;
+  if (s.face_given)
+    throw InputError(s.face_where + ": a condition on a region (box or line) takes every boundary gridpoint in it; "
+                     "'face' is for a condition on one block (block = ..., face = ...)");
+  const ConditionKind& kind = ConditionKinds::instance().get(s.type, s.type_where);
+  const auto selections = select_region(m, *s.region);
+  if (selections.empty())
+    throw InputError(s.region_where + ": no boundary gridpoint of any block lies in the region; check its coordinates "
+                     "and units (or the line's tolerance)");
+  for (const FaceSelection& sel : selections) {
+    ConditionInput in{m, sel, m.blocks[sel.block].rigid, s.values, s.where};
+    in.stress_field = c_.in_situ ? &*c_.in_situ : nullptr;
+    in.by_region = true;
+    auto bc = kind.make(in);
+    bc->stages = s.stages;
+    c_.conditions.push_back(std::move(bc));
+  }
+}
+
 void CaseBuilder::add_boundary(const BoundarySpec& s) {
+  if (s.region) return add_region_boundary(s);
   const Model& m = c_.model;
   const int block = c_.block_index(s.block, s.block_where);
   const std::string& block_name = m.blocks[block].name;
-  FaceSelection sel = select_face(m, block, face_direction(s.face, s.face_where));
+  named_conditions_.push_back({block, s.stages, s.where});
+  FaceSelection sel = select_outer_face(m, block, face_direction(s.face, s.face_where), outer_face_tolerance(m, block));
   if (sel.points.empty())
     throw InputError(s.where + ": face '" + s.face + "' of block '" + block_name + "' has no gridpoints");
   const bool rigid = m.blocks[block].rigid;
@@ -154,7 +216,9 @@ void CaseBuilder::add_boundary(const BoundarySpec& s) {
     throw InputError(s.face_where + ": block '" + block_name + "' is rigid; a " + s.type +
                      " condition acts on the whole rigid block, so leave out 'face'");
   const ConditionKind& kind = kinds.get(s.type, s.type_where);
-  auto bc = kind.make(ConditionInput{m, std::move(sel), rigid, s.values, s.where});
+  ConditionInput in{m, std::move(sel), rigid, s.values, s.where};
+  in.stress_field = c_.in_situ ? &*c_.in_situ : nullptr;
+  auto bc = kind.make(in);
   bc->stages = s.stages;
   c_.conditions.push_back(std::move(bc));
 }
@@ -206,7 +270,9 @@ void CaseBuilder::add_history(const HistoryInput& s) {
     if (q.rigid_only && !b.rigid)
       throw InputError(s.quantity_where + ": '" + q.name + "' is for rigid blocks; block '" + b.name +
                        "' is deformable: use face_displacement");
-    if (q.needs_face) h.target.points = select_face(m, h.target.block, face_direction(s.face, s.face_where)).points;
+    if (q.needs_face)
+      h.target.points = select_outer_face(m, h.target.block, face_direction(s.face, s.face_where),
+                                          outer_face_tolerance(m, h.target.block)).points;
   }
   c_.histories.push_back(std::move(h));
 }
@@ -247,6 +313,7 @@ Case build_case(const CaseSpec& spec) {
   for (const auto& s : spec.joints) b.add_joint(s);
   for (const auto& s : spec.blocks) b.add_block(s);
   b.finish_blocks();
+  if (spec.in_situ) b.in_situ(*spec.in_situ);
   for (const auto& s : spec.boundaries) b.add_boundary(s);
   for (const auto& s : spec.stages) b.add_stage(s);
   b.finish_stages();

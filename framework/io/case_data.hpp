@@ -3,6 +3,7 @@
 // histories and outputs, as the case builder (case_builder.hpp) makes them. Apart from
 // case.hpp so that the builder and code that makes cases need no TOML.
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -10,6 +11,7 @@
 #include "framework/mechanics/engine_settings.hpp"
 #include "framework/mechanics/history_quantities.hpp"
 #include "framework/model/model.hpp"
+#include "framework/model/stress_field.hpp"
 
 namespace rockdem {
 
@@ -68,6 +70,8 @@ struct Case {
   Model model;
   EngineSettings settings;
   std::vector<std::unique_ptr<BoundaryCondition>> conditions;
+  // [in_situ]: zones and contacts start from this field at the start of the run (not on restart).
+  std::optional<StressField> in_situ;
   std::vector<StageSpec> stages;
   std::vector<HistorySpec> histories;
   DirectShearSpec direct_shear;

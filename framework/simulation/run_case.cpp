@@ -14,6 +14,7 @@
 #include "framework/io/checkpoint.hpp"
 #include "framework/io/vtk_output.hpp"
 #include "framework/mechanics/engine.hpp"
+#include "framework/mechanics/in_situ.hpp"
 #include "framework/simulation/recorder.hpp"
 #include "framework/simulation/stage.hpp"
 
@@ -202,6 +203,14 @@ RunResult run_case(Case& c, const fs::path& out, bool quiet, const std::string& 
   }
   progress.run_started(out);
   Run r{c, out, engine, rec, vtk, progress};
+  // A restart reads the state the field started; a new run starts from the field.
+  if (restart.empty() && c.in_situ) {
+    const InSituReport rep = initialise_in_situ(c.model, *c.in_situ, c.settings.detection);
+    if (!quiet)
+      std::cout << "in-situ stress: " << rep.zones << " zones, " << rep.contacts << " contacts pre-loaded (largest error "
+                << rep.worst_error << " Pa" << (rep.at_strength ? ", " + std::to_string(rep.at_strength) + " at their shear strength" : "")
+                << ")\n";
+  }
   try {
     for (std::size_t si = first_stage; si < c.stages.size(); ++si) run_stage(r, joints, si);
   } catch (const InstabilityError& e) {
