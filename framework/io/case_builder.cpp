@@ -223,8 +223,44 @@ void CaseBuilder::add_boundary(const BoundarySpec& s) {
   c_.conditions.push_back(std::move(bc));
 }
 
+void CaseBuilder::resolve_excavation(const StageInput& s, StageSpec& stage) {
+  const Model& m = c_.model;
+  for (std::size_t i = 0; i < s.excavate.size(); ++i) {
+    const std::string& name = s.excavate[i];
+    std::vector<int> found;
+    for (std::size_t b = 0; b < m.blocks.size(); ++b)
+      if (m.blocks[b].name == name) found.push_back(static_cast<int>(b));
+    if (found.empty()) {
+      if (auto g = groups_.find(name); g != groups_.end())
+        for (std::size_t b = 0; b < m.blocks.size(); ++b)
+          if (m.blocks[b].group == g->second) found.push_back(static_cast<int>(b));
+    }
+    if (found.empty())
+      throw InputError(s.excavate_wheres[i] + ": stage '" + stage.name + "' excavates '" + name +
+                       "', which is neither a block nor a block group; groups: " + join_keys(groups_));
+    for (int b : found) {
+      for (const auto& earlier : c_.stages)
+        if (std::count(earlier.excavate.begin(), earlier.excavate.end(), m.blocks[b].id))
+          throw InputError(s.excavate_wheres[i] + ": block '" + m.blocks[b].name + "' is already excavated by stage '" +
+                           earlier.name + "'");
+      if (!std::count(stage.excavate.begin(), stage.excavate.end(), m.blocks[b].id)) stage.excavate.push_back(m.blocks[b].id);
+    }
+  }
+  if (stage.excavate.size() >= m.blocks.size())
+    throw InputError(s.excavate_wheres.front() + ": stage '" + stage.name + "' would excavate every block");
+}
+
+// The stage (by index) that excavates a block, or -1.
+int CaseBuilder::excavated_by(int block) const {
+  const BlockId id = c_.model.blocks[block].id;
+  for (std::size_t k = 0; k < c_.stages.size(); ++k)
+    if (std::count(c_.stages[k].excavate.begin(), c_.stages[k].excavate.end(), id)) return static_cast<int>(k);
+  return -1;
+}
+
 void CaseBuilder::add_stage(const StageInput& s) {
   StageSpec stage = s.stage;
+  resolve_excavation(s, stage);
   for (const auto& change : s.joint_changes) {
     auto def = std::find_if(joints_.begin(), joints_.end(), [&](const JointSpec& j) { return j.name == change.joint; });
     if (def == joints_.end())
@@ -248,6 +284,19 @@ void CaseBuilder::finish_stages() {
       if (!stage_names_.count(s))
         throw InputError(c_.file + ": a boundary condition names stage '" + s + "' that does not exist; stages: " +
                          stage_list());
+  // A condition on a block must end before the stage that excavates it.
+  for (const auto& nc : named_conditions_) {
+    const int k = excavated_by(nc.block);
+    if (k < 0) continue;
+    bool later = nc.stages.empty();
+    for (const auto& s : nc.stages)
+      for (std::size_t j = static_cast<std::size_t>(k); j < c_.stages.size(); ++j) later = later || c_.stages[j].name == s;
+    if (later)
+      throw InputError(nc.where + ": the condition acts on block '" + c_.model.blocks[nc.block].name + "', which stage '" +
+                       c_.stages[static_cast<std::size_t>(k)].name + "' excavates (stages." +
+                       c_.stages[static_cast<std::size_t>(k)].name + ".excavate), but it is active in that stage or "
+                       "later; limit it to earlier stages with stages = [...] or do not excavate the block");
+  }
 }
 
 void CaseBuilder::add_history(const HistoryInput& s) {
@@ -261,6 +310,10 @@ void CaseBuilder::add_history(const HistoryInput& s) {
   h.scale = s.scale;
   if (q.needs_block) {
     h.target.block = c_.block_index(s.block, s.block_where);
+    if (const int k = excavated_by(h.target.block); k >= 0)
+      throw InputError(s.block_where + ": history '" + s.name + "' measures block '" + s.block + "', which stage '" +
+                       c_.stages[static_cast<std::size_t>(k)].name + "' excavates (stages." +
+                       c_.stages[static_cast<std::size_t>(k)].name + ".excavate); measure a block that remains");
     const std::string component = s.component.value_or(q.components.front());
     const auto c = std::find(q.components.begin(), q.components.end(), component);
     if (c == q.components.end())

@@ -44,6 +44,8 @@ class CaseBuilder {
 
  private:
   void add_region_boundary(const BoundarySpec& s);
+  void resolve_excavation(const StageInput& s, StageSpec& stage);
+  int excavated_by(int block) const;
   int group_index(const std::string& group);
   int material_index(const BlockSpec& s) const;
   void check_overlaps() const;

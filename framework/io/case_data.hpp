@@ -27,6 +27,13 @@ struct StageSpec {
   // Joint models put in force from this stage on (same law and effects, other parameter values;
   // the contacts keep their state): (index in ContactStore::models, model).
   std::vector<std::pair<int, std::shared_ptr<const JointModel>>> joint_models;
+  // Excavation before the stage starts: the blocks removed (by Block::id) and the steps over
+  // which the forces they exerted are released (0: at once).
+  std::vector<BlockId> excavate;
+  long relax_steps = 0;
+  // Mass scaling in this stage: the stable time step masses are scaled to (0: real masses);
+  // none: the case's [time] mass_scaling_dt.
+  std::optional<double> mass_scaling_dt;
 };
 
 // One named history: a registered quantity (framework/mechanics/history_quantities.hpp) measured

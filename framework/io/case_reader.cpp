@@ -564,10 +564,31 @@ StageInput CaseReader::stage(const toml::table& t) const {
   s.name = r.str(t, "name", "stages");
   const std::string path = "stages." + s.name;
   r.check_keys(t, path, {"name", "damping", "local_damping", "damping_ratio", "damping_frequency", "until", "duration",
-                         "steps", "ratio", "max_steps", "joints"});
+                         "steps", "ratio", "max_steps", "joints", "excavate", "relax_steps", "mass_scaling_dt",
+                         "mass_scaling"});
   if (const auto* jn = t.get("joints")) in.joint_changes = read_joint_changes(r, *jn, path);
   s.damping = read_damping(r, t, path);
   read_until(r, t, path, s);
+  if (const auto* ex = r.array(t, "excavate"))
+    for (const auto& e : *ex) {
+      in.excavate.push_back(r.str(e, path + ".excavate"));
+      in.excavate_wheres.push_back(r.at(e, path + ".excavate"));
+    }
+  s.relax_steps = r.integer(t, "relax_steps", path, 0);
+  if (s.relax_steps < 0) throw InputError(r.at(*t.get("relax_steps"), path + ".relax_steps") + ": must be >= 0 steps");
+  if (t.contains("relax_steps") && in.excavate.empty())
+    throw InputError(r.at(*t.get("relax_steps"), path + ".relax_steps") + ": relax_steps releases the forces of "
+                     "excavated blocks; the stage excavates none (add excavate = [...])");
+  if (t.contains("mass_scaling_dt") && t.contains("mass_scaling"))
+    throw InputError(r.at(*t.get("mass_scaling"), path + ".mass_scaling") + ": give mass_scaling_dt (scaled) or "
+                     "mass_scaling = false (real masses), not both");
+  if (t.contains("mass_scaling_dt")) s.mass_scaling_dt = r.positive(t, "mass_scaling_dt", Dimension::time, path);
+  if (t.contains("mass_scaling")) {
+    if (r.boolean(t, "mass_scaling", path, false))
+      throw InputError(r.at(*t.get("mass_scaling"), path + ".mass_scaling") + ": mass_scaling = true needs a time "
+                       "step: write mass_scaling_dt = \"...\" instead");
+    s.mass_scaling_dt = 0.0;
+  }
   return in;
 }
 

@@ -102,6 +102,8 @@ struct StageInput {
   };
   StageSpec stage;  // joint_models left empty: the builder makes them from `joint_changes`
   std::vector<JointChange> joint_changes;
+  // Block or group names the stage excavates, with where each was written.
+  std::vector<std::string> excavate, excavate_wheres;
 };
 
 // [[histories]]

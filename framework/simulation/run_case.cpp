@@ -15,6 +15,7 @@
 #include "framework/io/vtk_output.hpp"
 #include "framework/mechanics/engine.hpp"
 #include "framework/mechanics/in_situ.hpp"
+#include "framework/simulation/excavate.hpp"
 #include "framework/simulation/recorder.hpp"
 #include "framework/simulation/stage.hpp"
 
@@ -129,6 +130,7 @@ void write_stage_checkpoint(const Run& r, std::size_t index) {
 }
 
 void run_stage(Run& r, const StageJointModels& joints, std::size_t index) {
+  excavate(r.c, r.engine, r.c.stages[index]);
   const StageRunner stage(r.c, r.engine, joints, index);
   r.rec.stage_started(static_cast<int>(index) + 1, stage.spec().name);
   const long vtk_every = r.c.output.vtk_interval > 0 ? r.c.output.vtk_interval : std::max(100L, stage.planned_steps() / 25);
