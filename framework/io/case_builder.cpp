@@ -7,6 +7,7 @@
 #include "framework/contact/detection.hpp"
 #include "framework/core/error.hpp"
 #include "framework/core/names.hpp"
+#include "framework/core/units.hpp"
 #include "framework/geometry/mesh.hpp"
 #include "framework/mechanics/zones.hpp"
 #include "framework/plugin_api/rock_material.hpp"
@@ -172,8 +173,8 @@ void CaseBuilder::in_situ(const InSituSpec& s) {
     for (const Block& b : m.blocks)
       if (std::abs(block_density(b) - rho) > 1e-9 * rho)
         throw InputError((s.density ? s.density_where : s.where) + ": the field's vertical gradient is density * g with "
-                         "density = " + std::to_string(rho) + " kg/m3, but block '" + b.name + "' has density " +
-                         std::to_string(block_density(b)) + " kg/m3, so gravity would not be balanced; give the "
+                         "density = " + format_quantity(rho, Dimension::density) + ", but block '" + b.name + "' has density " +
+                         format_quantity(block_density(b), Dimension::density) + ", so gravity would not be balanced; give the "
                          "blocks' density (a field by region is not available yet)");
     f.density = rho;
     f.gravity = g;
