@@ -300,6 +300,14 @@ void CaseBuilder::finish_stages() {
   }
 }
 
+int CaseBuilder::component_index(const HistoryQuantity& q, const HistoryInput& s) {
+  const std::string component = s.component.value_or(q.components.front());
+  const auto c = std::find(q.components.begin(), q.components.end(), component);
+  if (c == q.components.end())
+    throw InputError(s.component_where + ": unknown component '" + component + "'; valid: " + join_names(q.components));
+  return static_cast<int>(c - q.components.begin());
+}
+
 void CaseBuilder::add_history(const HistoryInput& s) {
   const Model& m = c_.model;
   HistorySpec h;
@@ -309,17 +317,20 @@ void CaseBuilder::add_history(const HistoryInput& s) {
   h.unit = s.unit.value_or(q.unit);
   h.description = s.description;
   h.scale = s.scale;
+  if (q.needs_point) {
+    if (!s.at) throw InputError(s.quantity_where + ": quantity '" + q.name + "' is measured by location: give at = [x, y]");
+    h.target.at = *s.at;
+    h.target.segment = s.to.has_value();
+    if (s.to) h.target.to = *s.to;
+    h.target.component = component_index(q, s);
+  }
   if (q.needs_block) {
     h.target.block = c_.block_index(s.block, s.block_where);
     if (const int k = excavated_by(h.target.block); k >= 0)
       throw InputError(s.block_where + ": history '" + s.name + "' measures block '" + s.block + "', which stage '" +
                        c_.stages[static_cast<std::size_t>(k)].name + "' excavates (stages." +
                        c_.stages[static_cast<std::size_t>(k)].name + ".excavate); measure a block that remains");
-    const std::string component = s.component.value_or(q.components.front());
-    const auto c = std::find(q.components.begin(), q.components.end(), component);
-    if (c == q.components.end())
-      throw InputError(s.component_where + ": unknown component '" + component + "'; valid: " + join_names(q.components));
-    h.target.component = static_cast<int>(c - q.components.begin());
+    h.target.component = component_index(q, s);
     const Block& b = m.blocks[h.target.block];
     if (q.rigid_only && !b.rigid)
       throw InputError(s.quantity_where + ": '" + q.name + "' is for rigid blocks; block '" + b.name +

@@ -46,6 +46,7 @@ class CaseBuilder {
   void add_region_boundary(const BoundarySpec& s);
   void resolve_excavation(const StageInput& s, StageSpec& stage);
   int excavated_by(int block) const;
+  static int component_index(const HistoryQuantity& q, const HistoryInput& s);
   int group_index(const std::string& group);
   int material_index(const BlockSpec& s) const;
   void check_overlaps() const;

@@ -597,20 +597,36 @@ HistoryInput CaseReader::history(const toml::table& t) const {
   HistoryInput h;
   h.name = r.str(t, "name", "histories");
   const std::string path = "histories." + h.name;
-  r.check_keys(t, path, {"name", "quantity", "block", "component", "face", "scale", "unit", "description"});
+  r.check_keys(t, path, {"name", "quantity", "block", "component", "face", "scale", "unit", "description", "at", "to"});
   h.quantity = r.str(t, "quantity", path);
   h.quantity_where = r.at(*t.get("quantity"), path + ".quantity");
   const HistoryQuantity& q = HistoryQuantities::instance().get(h.quantity, h.quantity_where);
   h.unit = r.str(t, "unit", path, q.unit);
   h.description = r.str(t, "description", path, h.quantity);
   h.scale = r.quantity(t, "scale", Dimension::dimensionless, path, 1.0);
-  if (!q.needs_block) return h;  // the other keys are not read then
-  h.block = r.str(t, "block", path);
-  h.block_where = r.at(r.need(t, "block", path), path + ".block");
   if (const toml::node* n = t.get("component")) {
     h.component = r.str(*n, path + ".component");
     h.component_where = r.at(*n, path + ".component");
   }
+  if (q.needs_point) {
+    auto point = [&](const char* key, std::string& where) -> std::optional<Vec2> {
+      const auto* a = r.array(t, key);
+      if (!a) return std::nullopt;
+      where = r.at(*a, path + "." + key);
+      if (a->size() != 2) throw InputError(where + ": expected [x, y] with units, e.g. [\"2 m\", \"-1.5 m\"]");
+      return Vec2(r.quantity(*a->get(0), Dimension::length, path + "." + key),
+                  r.quantity(*a->get(1), Dimension::length, path + "." + key));
+    };
+    h.at = point("at", h.at_where);
+    if (!h.at) throw InputError(r.at_table(t, path) + ": quantity '" + q.name + "' is measured by location: give at = [x, y]");
+    h.to = point("to", h.to_where);
+    if (h.to && !q.takes_segment)
+      throw InputError(h.to_where + ": 'to' (a joint segment) is for contact quantities; '" + q.name + "' is measured at a point");
+    return h;
+  }
+  if (!q.needs_block) return h;  // the other keys are not read then
+  h.block = r.str(t, "block", path);
+  h.block_where = r.at(r.need(t, "block", path), path + ".block");
   if (q.needs_face) {
     h.face = r.str(t, "face", path);
     h.face_where = r.at(*t.get("face"), path + ".face");

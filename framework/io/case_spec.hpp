@@ -114,6 +114,8 @@ struct HistoryInput {
   std::string description;
   double scale = 1.0;
   std::string quantity_where, block_where, component_where, face_where;
+  std::optional<Vec2> at, to;  // quantities by location [m]
+  std::string at_where, to_where;
 };
 
 // [direct_shear]: blocks by name; see DirectShearSpec.

@@ -31,6 +31,8 @@
 #include "framework/boundary/in_situ_condition.hpp"
 #include "framework/boundary/region.hpp"
 #include "framework/io/case_data.hpp"
+#include "framework/mechanics/engine.hpp"
+#include "framework/mechanics/history_quantities.hpp"
 #include "framework/mechanics/zones.hpp"
 #include "framework/simulation/run_case.hpp"
 #include "models/rock/elastic.hpp"
@@ -180,6 +182,24 @@ TEST(Excavation, KirschHoleInAnElasticPlate) {
   std::cout << "Kirsch: hoop " << hoop_spring / 1e6 << " MPa (springline), " << hoop_crown / 1e6
             << " MPa (crown); inward u " << u_spring * 1e3 << " mm (springline), " << u_crown * 1e3 << " mm (crown); "
             << m.zones.size() << " zones, " << m.step << " steps\n";
+  // Histories by location read the same model: the material point at the crown, and the zone
+  // containing (1.5 m, 0.02 m) against Kirsch's hoop stress at r = 1.5 a on the springline,
+  // 7.5 (1 + a^2/r^2) + 2.5 (1 + 3 a^4/r^4) = 14.81 MPa (3 %: the zone's centroid is up to 3 cm
+  // from the point, where the stress changes by 8.4 MPa/m).
+  const Engine probe(m, c.settings);
+  HistoryTarget crown;
+  crown.at = {0.0, kA};
+  crown.component = 1;
+  const double u_at = HistoryQuantities::instance().get("displacement_at", "test").measure(m, probe, crown);
+  HistoryTarget zone;
+  zone.at = {1.5, 0.02};
+  zone.component = 1;
+  const double syy = HistoryQuantities::instance().get("zone_stress", "test").measure(m, probe, zone);
+  const double r = 1.5, kirsch = 7.5e6 * (1 + 1 / (r * r)) + 2.5e6 * (1 + 3 / (r * r * r * r));
+  std::cout << "by location: crown displacement " << u_at << " m, zone syy at (1.5, 0.02) " << syy << " Pa (Kirsch -"
+            << kirsch << ")\n";
+  EXPECT_NEAR(u_at, -u_crown, 1e-12);
+  EXPECT_NEAR(-syy, kirsch, 0.03 * kirsch);
   EXPECT_NEAR(hoop_spring, 25e6, 0.02 * 25e6);
   EXPECT_NEAR(hoop_crown, 5e6, 0.02 * 5e6);
   EXPECT_NEAR(u_spring, 0.125e-3, 0.02 * 0.125e-3);
