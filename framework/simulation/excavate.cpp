@@ -34,7 +34,8 @@ std::map<int, Vec2> released_forces(const Model& m, const std::vector<char>& gon
 
 }  // namespace
 
-std::size_t excavate(Case& c, Engine& e, const StageSpec& stage) {
+std::size_t excavate(Case& c, const std::vector<std::unique_ptr<BoundaryCondition>>& conditions, const StageSpec& stage,
+                     std::unique_ptr<BoundaryCondition>* relax) {
   Model& m = c.model;
   std::vector<int> positions;
   std::vector<char> gone(m.blocks.size(), 0);
@@ -44,9 +45,9 @@ std::size_t excavate(Case& c, Engine& e, const StageSpec& stage) {
       gone[b] = 1;
     }
   if (positions.empty()) return 0;
-  const std::map<int, Vec2> released = stage.relax_steps > 0 ? released_forces(m, gone) : std::map<int, Vec2>{};
+  const std::map<int, Vec2> released = relax && stage.relax_steps > 0 ? released_forces(m, gone) : std::map<int, Vec2>{};
   const Renumbering r = remove_blocks(m, positions);
-  for (const auto& bc : e.conditions())
+  for (const auto& bc : conditions)
     if (!bc->renumber(r)) bc->removed = true;
   for (auto& h : c.histories) {
     if (h.target.block >= 0) h.target.block = r.block[static_cast<std::size_t>(h.target.block)];
@@ -65,9 +66,8 @@ std::size_t excavate(Case& c, Engine& e, const StageSpec& stage) {
   if (!released.empty()) {
     std::vector<std::pair<int, Vec2>> forces;
     for (const auto& [g, f] : released) forces.emplace_back(r.gp[static_cast<std::size_t>(g)], f);
-    auto relax = std::make_unique<RelaxCondition>(std::move(forces), stage.relax_steps);
-    relax->stages = {stage.name};
-    e.add_condition(std::move(relax));
+    *relax = std::make_unique<RelaxCondition>(std::move(forces), stage.relax_steps);
+    (*relax)->stages = {stage.name};
   }
   return positions.size();
 }

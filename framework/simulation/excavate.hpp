@@ -9,7 +9,10 @@
 
 namespace rockdem {
 
-// Removes the stage's blocks; returns the number removed.
-std::size_t excavate(Case& c, Engine& e, const StageSpec& stage);
+// Removes the stage's blocks and renumbers `conditions` (the engine's, or the case's before an
+// engine exists); returns the number removed. With `relax` given and relax_steps > 0, sets it to
+// the condition that releases the removed blocks' forces (for the engine to add).
+std::size_t excavate(Case& c, const std::vector<std::unique_ptr<BoundaryCondition>>& conditions, const StageSpec& stage,
+                     std::unique_ptr<BoundaryCondition>* relax = nullptr);
 
 }  // namespace rockdem

@@ -25,7 +25,7 @@ namespace {
 
 constexpr double kDip = 40.0, kG = 9.81, kH = 2.0;
 
-std::string wedge_case(double friction_deg) {
+std::string wedge_case(double friction_deg, bool third_stage = false) {
   const double t = std::tan(kDip * std::numbers::pi / 180.0);
   auto pt = [](double x, double y) {
     std::ostringstream p;
@@ -51,6 +51,8 @@ std::string wedge_case(double friction_deg) {
      << "[[stages]]\nname = \"settle\"\nuntil = \"equilibrium\"\nratio = 1e-7\nmass_scaling_dt = \"1e-4 s\"\n"
      << "[[stages]]\nname = \"excavate\"\nexcavate = [\"opening\"]\ndamping = \"none\"\nmass_scaling = false\n"
      << "until = \"duration\"\nduration = \"0.2 s\"\n"
+     << (third_stage ? "[[stages]]\nname = \"after\"\ndamping = \"none\"\nmass_scaling = false\nuntil = \"steps\"\nsteps = 200\n"
+                     : "")
      << "[[histories]]\nname = \"vx\"\nquantity = \"block_velocity\"\nblock = \"wedge\"\ncomponent = \"x\"\n"
      << "[[histories]]\nname = \"vy\"\nquantity = \"block_velocity\"\nblock = \"wedge\"\ncomponent = \"y\"\n"
      << "[[histories]]\nname = \"ux\"\nquantity = \"block_displacement\"\nblock = \"wedge\"\ncomponent = \"x\"\n"
@@ -124,4 +126,21 @@ TEST(Wedge, StaysWhenTheJointIsStrong) {
   const Slide s = run_wedge(45.0, "wedge_stays");
   std::cout << "wedge, phi = 45 deg: down-dip displacement " << s.displacement << " m in 0.2 s\n";
   EXPECT_LT(std::abs(s.displacement), 1e-4);
+}
+
+// A restart from the checkpoint written after the excavation stage makes the excavation again
+// before reading it (the case's model still has the opening's block) and ends where the
+// uninterrupted run ends, to the last bit of the wedge's position.
+TEST(Wedge, RestartAfterTheExcavationEndsInTheSameState) {
+  const auto out = std::filesystem::temp_directory_path() / ("rockdem_wedge_restart_" + std::to_string(::getpid()));
+  Case whole = load_case_text(wedge_case(30.0, true), "wedge3.toml", ".");
+  run_case(whole, out, true);
+  Case again = load_case_text(wedge_case(30.0, true), "wedge3.toml", ".");
+  run_case(again, out / "again", true, (out / "stage_2_excavate.h5").string());
+  std::filesystem::remove_all(out);
+  ASSERT_EQ(again.model.blocks.size(), 2u);
+  ASSERT_EQ(again.block_names, whole.block_names);
+  EXPECT_EQ(again.model.blocks[1].xc.x(), whole.model.blocks[1].xc.x());
+  EXPECT_EQ(again.model.blocks[1].xc.y(), whole.model.blocks[1].xc.y());
+  EXPECT_EQ(again.model.step, whole.model.step);
 }
