@@ -25,11 +25,13 @@
 #include <cmath>
 #include <filesystem>
 #include <numbers>
+#include <sstream>
 #include <unistd.h>
 
 #include "framework/boundary/fixed_condition.hpp"
 #include "framework/boundary/in_situ_condition.hpp"
 #include "framework/boundary/region.hpp"
+#include "framework/io/case.hpp"
 #include "framework/io/case_data.hpp"
 #include "framework/mechanics/engine.hpp"
 #include "framework/mechanics/history_quantities.hpp"
@@ -204,4 +206,46 @@ TEST(Excavation, KirschHoleInAnElasticPlate) {
   EXPECT_NEAR(hoop_crown, 5e6, 0.02 * 5e6);
   EXPECT_NEAR(u_spring, 0.125e-3, 0.02 * 0.125e-3);
   EXPECT_NEAR(u_crown, 0.625e-3, 0.02 * 0.625e-3);
+}
+
+// Relax: a rigid block resting on another (narrower, so no coincident corners) that is excavated.
+// The support the removed block gave, its weight W, is released linearly over N steps: at step k
+// the block feels W (1 - k/N) up and its weight down, so after N undamped steps of dt its velocity
+// is -g dt (N + 1)/2; released at once (N = 0) it is -g dt N after N steps.
+namespace {
+
+double drop_velocity(long relax, long steps, double& dt) {
+  std::ostringstream os;
+  os << "[model]\ngravity = [\"0 m/s2\", \"-9.81 m/s2\"]\n"
+     << "[[joints]]\nname = \"j\"\nlaw = \"coulomb_slip\"\nbetween = [\"*\", \"*\"]\nkn = \"10 GPa/m\"\nks = \"10 GPa/m\"\n"
+     << "friction = \"30 deg\"\n"
+     << "[[blocks]]\nname = \"base\"\ntype = \"rigid\"\ndensity = \"2650 kg/m3\"\nrectangle = [\"0 m\", \"0 m\", \"2 m\", \"1 m\"]\n"
+     << "[[blocks]]\nname = \"top\"\ntype = \"rigid\"\ndensity = \"2650 kg/m3\"\nrectangle = [\"0.5 m\", \"1 m\", \"1 m\", \"1 m\"]\n"
+     << "[[boundary]]\ntype = \"fixed\"\nblock = \"base\"\nstages = [\"settle\"]\n"
+     << "[[stages]]\nname = \"settle\"\nuntil = \"equilibrium\"\nratio = 1e-9\n"
+     << "[[stages]]\nname = \"drop\"\nexcavate = [\"base\"]\n" << (relax > 0 ? "relax_steps = " + std::to_string(relax) + "\n" : "")
+     << "damping = \"none\"\nuntil = \"steps\"\nsteps = " << steps << "\n"
+     << "[[histories]]\nname = \"vy\"\nquantity = \"block_velocity\"\nblock = \"top\"\ncomponent = \"y\"\n"
+     << "[[histories]]\nname = \"dt\"\nquantity = \"time_step\"\n";
+  Case c = load_case_text(os.str(), "drop.toml", ".");
+  const auto out = std::filesystem::temp_directory_path() / ("rockdem_drop_" + std::to_string(::getpid()));
+  const RunResult r = run_case(c, out, true);
+  std::filesystem::remove_all(out);
+  dt = r.history.values(r.history.id("dt")).back();
+  return r.history.values(r.history.id("vy")).back();
+}
+
+}  // namespace
+
+TEST(Excavation, ForcesOfRemovedBlocksAreReleasedAtOnceOrOverRelaxSteps) {
+  double dt = 0.0;
+  const long n = 1000;
+  const double gradual = drop_velocity(n, n, dt);
+  const double expected_gradual = -9.81 * dt * (n + 1) / 2.0;
+  const double at_once = drop_velocity(0, n, dt);
+  const double expected_at_once = -9.81 * dt * n;
+  std::cout << "relax over " << n << " steps: v = " << gradual << " m/s (closed form " << expected_gradual
+            << "); at once: " << at_once << " (" << expected_at_once << "), dt = " << dt << " s\n";
+  EXPECT_NEAR(gradual, expected_gradual, 1e-3 * std::abs(expected_gradual));
+  EXPECT_NEAR(at_once, expected_at_once, 1e-3 * std::abs(expected_at_once));
 }
