@@ -15,6 +15,7 @@
 #include "framework/boundary/conditions.hpp"
 #include "framework/core/registry.hpp"
 #include "framework/core/units.hpp"
+#include "framework/model/stress_field.hpp"
 
 namespace rockdem {
 
@@ -45,6 +46,13 @@ struct ConditionInput {
   bool rigid = false;  // the selection's block is rigid
   std::map<std::string, ConditionValue> values;
   std::string where;  // the condition as a whole, for messages
+  // The case's in-situ stress field ([in_situ]), or null when the case has none; kinds that load
+  // a boundary with it (in_situ_condition.cpp) copy it.
+  const StressField* stress_field = nullptr;
+  // The selection is a block's share of a region (region.hpp), not a named face: a kind that
+  // holds a component of a rigid block then also holds its spin when the region covers one of
+  // its edges (a roller along a face lets no point of it move across, so the face cannot turn).
+  bool by_region = false;
   const ConditionValue* value(const std::string& key) const;
   // The time function given for `key`, or none if the key was not given.
   std::optional<TimeFunction> function(const std::string& key) const;

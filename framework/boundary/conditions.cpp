@@ -8,6 +8,7 @@
 namespace rockdem {
 
 bool BoundaryCondition::active_in(const std::string& stage) const {
+  if (removed) return false;
   return stages.empty() || std::find(stages.begin(), stages.end(), stage) != stages.end();
 }
 
@@ -18,6 +19,11 @@ Vec2 face_direction(const std::string& name, const std::string& where) {
   if (name == "right") return {1, 0};
   if (name == "all") return {0, 0};
   throw InputError(where + ": unknown face '" + name + "'; valid faces: top, bottom, left, right, all");
+}
+
+bool renumber(FaceSelection& sel, const Renumbering& r) {
+  sel.block = r.block[static_cast<std::size_t>(sel.block)];
+  return r.points(sel.points) && sel.block >= 0;
 }
 
 FaceSelection select_face(const Model& m, int block, const Vec2& dir) {

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "framework/boundary/time_function.hpp"
+#include "framework/model/excavation.hpp"
 #include "framework/model/model.hpp"
 
 namespace rockdem {
@@ -25,6 +26,9 @@ FaceSelection select_face(const Model& m, int block, const Vec2& direction);
 // Face names: "top" (+y), "bottom" (-y), "left" (-x), "right" (+x); "all" selects every
 // boundary point. Throws InputError listing the valid names.
 Vec2 face_direction(const std::string& name, const std::string& where);
+// A selection after blocks were removed (excavation): new gridpoint and block positions; false if
+// its block was removed (the edges, positions in the block's boundary loop, do not change).
+bool renumber(FaceSelection& sel, const Renumbering& r);
 
 class BoundaryCondition {
  public:
@@ -37,6 +41,10 @@ class BoundaryCondition {
   // Time after which the condition's prescribed histories are finished (0: none ends). A stage
   // with duration = "auto" runs as long as the longest of its active conditions'.
   virtual double history_duration() const { return 0.0; }
+  // After an excavation: the new positions of its gridpoints and block. A condition whose block
+  // was removed returns false, is marked `removed` and is never active again.
+  virtual bool renumber(const Renumbering&) { return true; }
+  bool removed = false;
   // Stages this condition is active in (empty: all).
   std::vector<std::string> stages;
   bool active_in(const std::string& stage) const;

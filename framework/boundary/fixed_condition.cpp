@@ -57,9 +57,11 @@ std::unique_ptr<BoundaryCondition> make_fixed(const ConditionInput& in) {
   }
   if (in.rigid && !(fx && fy)) {
     // Holding one component of a rigid block: a zero velocity on that component only.
+    const bool spin = in.by_region && !in.selection.edges.empty();
     return std::make_unique<VelocityCondition>(in.selection, true,
                                                fx ? std::optional(TimeFunction::constant(0.0)) : std::nullopt,
-                                               fy ? std::optional(TimeFunction::constant(0.0)) : std::nullopt, std::nullopt);
+                                               fy ? std::optional(TimeFunction::constant(0.0)) : std::nullopt,
+                                               spin ? std::optional(TimeFunction::constant(0.0)) : std::nullopt);
   }
   return std::make_unique<FixedCondition>(in.selection, fx, fy, in.rigid);
 }

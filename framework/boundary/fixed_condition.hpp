@@ -12,6 +12,8 @@ class FixedCondition final : public BoundaryCondition {
   void setup(Model&) override;
   void velocities(Model&, double) override;
 
+  bool renumber(const Renumbering& r) override { return rockdem::renumber(sel_, r); }
+
  private:
   FaceSelection sel_;
   bool fx_, fy_, rigid_;

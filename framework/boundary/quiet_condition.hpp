@@ -12,6 +12,8 @@ class QuietCondition final : public BoundaryCondition {
   std::string describe(const Model& m) const override;
   double forces(Model&, double t) override;
 
+  bool renumber(const Renumbering& r) override { return rockdem::renumber(sel_, r); }
+
  private:
   FaceSelection sel_;
   double rho_, cp_, cs_;

@@ -13,6 +13,8 @@ class TractionCondition final : public BoundaryCondition {
   std::string describe(const Model& m) const override;
   double forces(Model&, double t) override;
 
+  bool renumber(const Renumbering& r) override { return rockdem::renumber(sel_, r); }
+
  private:
   FaceSelection sel_;
   TimeFunction normal_, shear_;

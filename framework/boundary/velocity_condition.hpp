@@ -19,6 +19,8 @@ class VelocityCondition final : public BoundaryCondition {
   double duration() const;
   double history_duration() const override { return duration(); }
 
+  bool renumber(const Renumbering& r) override { return rockdem::renumber(sel_, r); }
+
  private:
   FaceSelection sel_;
   bool rigid_;

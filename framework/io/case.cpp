@@ -24,6 +24,7 @@ Case build(const toml::table& root, const CaseReader& r) {
   for (const auto* t : r.tables(root, "joints")) b.add_joint(r.joint(*t));
   for (const auto* t : r.tables(root, "blocks")) b.add_block(r.block(*t));
   b.finish_blocks();
+  if (const auto* t = root["in_situ"].as_table()) b.in_situ(r.in_situ(*t));
   for (const auto* t : r.tables(root, "boundary")) b.add_boundary(r.boundary(*t));
   for (const auto* t : r.tables(root, "stages")) b.add_stage(r.stage(*t));
   b.finish_stages();

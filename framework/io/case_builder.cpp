@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "framework/contact/detection.hpp"
 #include "framework/core/error.hpp"
 #include "framework/core/names.hpp"
+#include "framework/core/units.hpp"
 #include "framework/geometry/mesh.hpp"
 #include "framework/mechanics/zones.hpp"
 #include "framework/plugin_api/rock_material.hpp"
@@ -141,11 +143,72 @@ void CaseBuilder::finish_blocks() {
   assign_joint_groups();
 }
 
+void CaseBuilder::in_situ(const InSituSpec& s) {
+  const Model& m = c_.model;
+  StressField f;
+  f.surcharge = s.surcharge;
+  f.k = s.k;
+  f.sxy = s.sxy;
+  double top = -std::numeric_limits<double>::infinity();
+  for (const auto& g : m.gp) top = std::max(top, g.x.y());
+  const double size = std::max(1.0, std::abs(top));
+  f.surface = s.surface.value_or(top);
+  if (s.surface && *s.surface < top - 1e-9 * size)
+    throw InputError(s.surface_where + ": the datum (surface = " + std::to_string(*s.surface) +
+                     " m) lies below the top of the model (y = " + std::to_string(top) +
+                     " m): the rock above it would be in vertical tension; give surface >= the top of the model");
+  const double g = -m.gravity.y();
+  if (m.gravity.x() != 0.0)
+    throw InputError(s.where + ": the in-situ field grows with depth along y, but [model] gravity has an x component; "
+                     "use a vertical gravity [\"0 m/s2\", \"-9.81 m/s2\"]");
+  auto block_density = [&](const Block& b) { return b.rigid ? b.density : m.materials[m.zones[b.first_zone].material]->density(); };
+  if (g == 0.0) {
+    if (s.density && *s.density > 0.0)
+      throw InputError(s.density_where + ": the model has no gravity, so a stress that grows with depth (density > 0) "
+                       "would not be balanced; leave out density or set [model] gravity");
+    f.density = 0.0;
+  } else {
+    // Only the blocks' own density balances gravity: the field's gradient must be theirs.
+    const double rho = s.density ? *s.density : block_density(m.blocks.front());
+    for (const Block& b : m.blocks)
+      if (std::abs(block_density(b) - rho) > 1e-9 * rho)
+        throw InputError((s.density ? s.density_where : s.where) + ": the field's vertical gradient is density * g with "
+                         "density = " + format_quantity(rho, Dimension::density) + ", but block '" + b.name + "' has density " +
+                         format_quantity(block_density(b), Dimension::density) + ", so gravity would not be balanced; give the "
+                         "blocks' density (a field by region is not available yet)");
+    f.density = rho;
+    f.gravity = g;
+  }
+  c_.in_situ = f;
+}
+
+void CaseBuilder::add_region_boundary(const BoundarySpec& s) {
+  const Model& m = c_.model;
+  if (s.face_given)
+    throw InputError(s.face_where + ": a condition on a region (box or line) takes every boundary gridpoint in it; "
+                     "'face' is for a condition on one block (block = ..., face = ...)");
+  const ConditionKind& kind = ConditionKinds::instance().get(s.type, s.type_where);
+  const auto selections = select_region(m, *s.region);
+  if (selections.empty())
+    throw InputError(s.region_where + ": no boundary gridpoint of any block lies in the region; check its coordinates "
+                     "and units (or the line's tolerance)");
+  for (const FaceSelection& sel : selections) {
+    ConditionInput in{m, sel, m.blocks[sel.block].rigid, s.values, s.where};
+    in.stress_field = c_.in_situ ? &*c_.in_situ : nullptr;
+    in.by_region = true;
+    auto bc = kind.make(in);
+    bc->stages = s.stages;
+    c_.conditions.push_back(std::move(bc));
+  }
+}
+
 void CaseBuilder::add_boundary(const BoundarySpec& s) {
+  if (s.region) return add_region_boundary(s);
   const Model& m = c_.model;
   const int block = c_.block_index(s.block, s.block_where);
   const std::string& block_name = m.blocks[block].name;
-  FaceSelection sel = select_face(m, block, face_direction(s.face, s.face_where));
+  named_conditions_.push_back({block, s.stages, s.where});
+  FaceSelection sel = select_outer_face(m, block, face_direction(s.face, s.face_where), outer_face_tolerance(m, block));
   if (sel.points.empty())
     throw InputError(s.where + ": face '" + s.face + "' of block '" + block_name + "' has no gridpoints");
   const bool rigid = m.blocks[block].rigid;
@@ -154,13 +217,51 @@ void CaseBuilder::add_boundary(const BoundarySpec& s) {
     throw InputError(s.face_where + ": block '" + block_name + "' is rigid; a " + s.type +
                      " condition acts on the whole rigid block, so leave out 'face'");
   const ConditionKind& kind = kinds.get(s.type, s.type_where);
-  auto bc = kind.make(ConditionInput{m, std::move(sel), rigid, s.values, s.where});
+  ConditionInput in{m, std::move(sel), rigid, s.values, s.where};
+  in.stress_field = c_.in_situ ? &*c_.in_situ : nullptr;
+  auto bc = kind.make(in);
   bc->stages = s.stages;
   c_.conditions.push_back(std::move(bc));
 }
 
+void CaseBuilder::resolve_excavation(const StageInput& s, StageSpec& stage) {
+  const Model& m = c_.model;
+  for (std::size_t i = 0; i < s.excavate.size(); ++i) {
+    const std::string& name = s.excavate[i];
+    std::vector<int> found;
+    for (std::size_t b = 0; b < m.blocks.size(); ++b)
+      if (m.blocks[b].name == name) found.push_back(static_cast<int>(b));
+    if (found.empty()) {
+      if (auto g = groups_.find(name); g != groups_.end())
+        for (std::size_t b = 0; b < m.blocks.size(); ++b)
+          if (m.blocks[b].group == g->second) found.push_back(static_cast<int>(b));
+    }
+    if (found.empty())
+      throw InputError(s.excavate_wheres[i] + ": stage '" + stage.name + "' excavates '" + name +
+                       "', which is neither a block nor a block group; groups: " + join_keys(groups_));
+    for (int b : found) {
+      for (const auto& earlier : c_.stages)
+        if (std::count(earlier.excavate.begin(), earlier.excavate.end(), m.blocks[b].id))
+          throw InputError(s.excavate_wheres[i] + ": block '" + m.blocks[b].name + "' is already excavated by stage '" +
+                           earlier.name + "'");
+      if (!std::count(stage.excavate.begin(), stage.excavate.end(), m.blocks[b].id)) stage.excavate.push_back(m.blocks[b].id);
+    }
+  }
+  if (stage.excavate.size() >= m.blocks.size())
+    throw InputError(s.excavate_wheres.front() + ": stage '" + stage.name + "' would excavate every block");
+}
+
+// The stage (by index) that excavates a block, or -1.
+int CaseBuilder::excavated_by(int block) const {
+  const BlockId id = c_.model.blocks[block].id;
+  for (std::size_t k = 0; k < c_.stages.size(); ++k)
+    if (std::count(c_.stages[k].excavate.begin(), c_.stages[k].excavate.end(), id)) return static_cast<int>(k);
+  return -1;
+}
+
 void CaseBuilder::add_stage(const StageInput& s) {
   StageSpec stage = s.stage;
+  resolve_excavation(s, stage);
   for (const auto& change : s.joint_changes) {
     auto def = std::find_if(joints_.begin(), joints_.end(), [&](const JointSpec& j) { return j.name == change.joint; });
     if (def == joints_.end())
@@ -184,6 +285,27 @@ void CaseBuilder::finish_stages() {
       if (!stage_names_.count(s))
         throw InputError(c_.file + ": a boundary condition names stage '" + s + "' that does not exist; stages: " +
                          stage_list());
+  // A condition on a block must end before the stage that excavates it.
+  for (const auto& nc : named_conditions_) {
+    const int k = excavated_by(nc.block);
+    if (k < 0) continue;
+    bool later = nc.stages.empty();
+    for (const auto& s : nc.stages)
+      for (std::size_t j = static_cast<std::size_t>(k); j < c_.stages.size(); ++j) later = later || c_.stages[j].name == s;
+    if (later)
+      throw InputError(nc.where + ": the condition acts on block '" + c_.model.blocks[nc.block].name + "', which stage '" +
+                       c_.stages[static_cast<std::size_t>(k)].name + "' excavates (stages." +
+                       c_.stages[static_cast<std::size_t>(k)].name + ".excavate), but it is active in that stage or "
+                       "later; limit it to earlier stages with stages = [...] or do not excavate the block");
+  }
+}
+
+int CaseBuilder::component_index(const HistoryQuantity& q, const HistoryInput& s) {
+  const std::string component = s.component.value_or(q.components.front());
+  const auto c = std::find(q.components.begin(), q.components.end(), component);
+  if (c == q.components.end())
+    throw InputError(s.component_where + ": unknown component '" + component + "'; valid: " + join_names(q.components));
+  return static_cast<int>(c - q.components.begin());
 }
 
 void CaseBuilder::add_history(const HistoryInput& s) {
@@ -195,18 +317,27 @@ void CaseBuilder::add_history(const HistoryInput& s) {
   h.unit = s.unit.value_or(q.unit);
   h.description = s.description;
   h.scale = s.scale;
+  if (q.needs_point) {
+    if (!s.at) throw InputError(s.quantity_where + ": quantity '" + q.name + "' is measured by location: give at = [x, y]");
+    h.target.at = *s.at;
+    h.target.segment = s.to.has_value();
+    if (s.to) h.target.to = *s.to;
+    h.target.component = component_index(q, s);
+  }
   if (q.needs_block) {
     h.target.block = c_.block_index(s.block, s.block_where);
-    const std::string component = s.component.value_or(q.components.front());
-    const auto c = std::find(q.components.begin(), q.components.end(), component);
-    if (c == q.components.end())
-      throw InputError(s.component_where + ": unknown component '" + component + "'; valid: " + join_names(q.components));
-    h.target.component = static_cast<int>(c - q.components.begin());
+    if (const int k = excavated_by(h.target.block); k >= 0)
+      throw InputError(s.block_where + ": history '" + s.name + "' measures block '" + s.block + "', which stage '" +
+                       c_.stages[static_cast<std::size_t>(k)].name + "' excavates (stages." +
+                       c_.stages[static_cast<std::size_t>(k)].name + ".excavate); measure a block that remains");
+    h.target.component = component_index(q, s);
     const Block& b = m.blocks[h.target.block];
     if (q.rigid_only && !b.rigid)
       throw InputError(s.quantity_where + ": '" + q.name + "' is for rigid blocks; block '" + b.name +
                        "' is deformable: use face_displacement");
-    if (q.needs_face) h.target.points = select_face(m, h.target.block, face_direction(s.face, s.face_where)).points;
+    if (q.needs_face)
+      h.target.points = select_outer_face(m, h.target.block, face_direction(s.face, s.face_where),
+                                          outer_face_tolerance(m, h.target.block)).points;
   }
   c_.histories.push_back(std::move(h));
 }
@@ -247,6 +378,7 @@ Case build_case(const CaseSpec& spec) {
   for (const auto& s : spec.joints) b.add_joint(s);
   for (const auto& s : spec.blocks) b.add_block(s);
   b.finish_blocks();
+  if (spec.in_situ) b.in_situ(*spec.in_situ);
   for (const auto& s : spec.boundaries) b.add_boundary(s);
   for (const auto& s : spec.stages) b.add_stage(s);
   b.finish_stages();

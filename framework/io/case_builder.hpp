@@ -6,7 +6,7 @@
 // code that makes its specs itself (e.g. a rock-mass generator) calls build_case().
 //
 // The parts must come in this order, each at most once unless it says "add": model_settings,
-// time, add_material, add_joint, add_block, finish_blocks, add_boundary, add_stage, finish_stages,
+// time, add_material, add_joint, add_block, finish_blocks, in_situ, add_boundary, add_stage, finish_stages,
 // add_history, direct_shear, output, finish. Every mistake is an InputError naming the spec's
 // `where` for it.
 #include <map>
@@ -30,6 +30,9 @@ class CaseBuilder {
   void add_block(const BlockSpec& s);
   // No blocks, blocks that overlap and joints between groups no block has are mistakes.
   void finish_blocks();
+  // The in-situ stress field; a field that does not balance the model's gravity (a density other
+  // than the blocks', a gradient without gravity, a datum below the top of the model) is a mistake.
+  void in_situ(const InSituSpec& s);
   void add_boundary(const BoundarySpec& s);
   void add_stage(const StageInput& s);
   // No stages, and conditions naming stages that do not exist, are mistakes.
@@ -40,6 +43,10 @@ class CaseBuilder {
   Case finish();
 
  private:
+  void add_region_boundary(const BoundarySpec& s);
+  void resolve_excavation(const StageInput& s, StageSpec& stage);
+  int excavated_by(int block) const;
+  static int component_index(const HistoryQuantity& q, const HistoryInput& s);
   int group_index(const std::string& group);
   int material_index(const BlockSpec& s) const;
   void check_overlaps() const;
@@ -51,6 +58,13 @@ class CaseBuilder {
   std::map<std::string, int> groups_;     // block group -> index
   std::vector<JointSpec> joints_;         // index = joint model; kept for stage changes
   std::set<std::string> stage_names_;
+  // Conditions that name a block (not a region): a stage that excavates it must come after them.
+  struct NamedCondition {
+    int block;
+    std::vector<std::string> stages;
+    std::string where;
+  };
+  std::vector<NamedCondition> named_conditions_;
 };
 
 // A whole case from specs made in code.

@@ -3,6 +3,7 @@
 // histories and outputs, as the case builder (case_builder.hpp) makes them. Apart from
 // case.hpp so that the builder and code that makes cases need no TOML.
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -10,6 +11,7 @@
 #include "framework/mechanics/engine_settings.hpp"
 #include "framework/mechanics/history_quantities.hpp"
 #include "framework/model/model.hpp"
+#include "framework/model/stress_field.hpp"
 
 namespace rockdem {
 
@@ -25,6 +27,13 @@ struct StageSpec {
   // Joint models put in force from this stage on (same law and effects, other parameter values;
   // the contacts keep their state): (index in ContactStore::models, model).
   std::vector<std::pair<int, std::shared_ptr<const JointModel>>> joint_models;
+  // Excavation before the stage starts: the blocks removed (by Block::id) and the steps over
+  // which the forces they exerted are released (0: at once).
+  std::vector<BlockId> excavate;
+  long relax_steps = 0;
+  // Mass scaling in this stage: the stable time step masses are scaled to (0: real masses);
+  // none: the case's [time] mass_scaling_dt.
+  std::optional<double> mass_scaling_dt;
 };
 
 // One named history: a registered quantity (framework/mechanics/history_quantities.hpp) measured
@@ -68,6 +77,8 @@ struct Case {
   Model model;
   EngineSettings settings;
   std::vector<std::unique_ptr<BoundaryCondition>> conditions;
+  // [in_situ]: zones and contacts start from this field at the start of the run (not on restart).
+  std::optional<StressField> in_situ;
   std::vector<StageSpec> stages;
   std::vector<HistorySpec> histories;
   DirectShearSpec direct_shear;

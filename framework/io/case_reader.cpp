@@ -314,6 +314,38 @@ ConditionValue read_condition_value(const Reader& r, const toml::table& t, const
   return v;
 }
 
+// [[boundary]] box = [x0, y0, x1, y1] or line = {from = [x, y], to = [x, y], tolerance = ...}.
+std::optional<Region> read_region(const Reader& r, const toml::table& t, const std::string& path, std::string& where) {
+  if (t.contains("box") && t.contains("line"))
+    throw InputError(r.at(*t.get("line"), path + ".line") + ": give a box or a line, not both");
+  Region g;
+  if (const auto* a = r.array(t, "box")) {
+    where = r.at(*a, path + ".box");
+    if (a->size() != 4) throw InputError(where + ": expected [x0, y0, x1, y1] with units, e.g. [\"0 m\", \"0 m\", \"1 m\", \"20 m\"]");
+    std::array<double, 4> b{};
+    for (std::size_t i = 0; i < 4; ++i) b[i] = r.quantity(*a->get(i), Dimension::length, path + ".box");
+    if (!(b[2] >= b[0] && b[3] >= b[1])) throw InputError(where + ": the box needs x0 <= x1 and y0 <= y1");
+    g.box = b;
+    return g;
+  }
+  const toml::node* n = t.get("line");
+  if (!n) return std::nullopt;
+  where = r.at(*n, path + ".line");
+  const auto* lt = n->as_table();
+  if (!lt) throw InputError(where + ": expected {from = [x, y], to = [x, y], tolerance = \"...\"} with units");
+  r.check_keys(*lt, path + ".line", {"from", "to", "tolerance"});
+  auto point = [&](const char* key) {
+    const auto* p = r.array(*lt, key);
+    if (!p || p->size() != 2) throw InputError(where + ": '" + key + "' must be [x, y] with units");
+    return Vec2(r.quantity(*p->get(0), Dimension::length, path + ".line." + key),
+                r.quantity(*p->get(1), Dimension::length, path + ".line." + key));
+  };
+  g.from = point("from");
+  g.to = point("to");
+  g.tolerance = r.positive(*lt, "tolerance", Dimension::length, path + ".line");
+  return g;
+}
+
 // [[stages]] joints = { <joint name> = { <parameters that change> } }: from this stage on the joint
 // has these values (the others as in [[joints]]); its contacts keep their state.
 std::vector<StageInput::JointChange> read_joint_changes(const Reader& r, const toml::node& n, const std::string& path) {
@@ -379,9 +411,9 @@ void read_test_stages(const Reader& r, const toml::table& t, const std::string& 
 std::string CaseReader::top_level(const toml::table& root) const {
   const Reader r{file_, base_dir_};
   r.check_keys(root, "case", {"title", "model", "time", "materials", "joints", "blocks", "boundary", "stages",
-                               "histories", "direct_shear", "output"});
+                               "histories", "direct_shear", "output", "in_situ"});
   std::string title = r.str(root, "title", "case", std::string("untitled"));
-  for (const char* key : {"model", "time", "direct_shear", "output"})
+  for (const char* key : {"model", "time", "direct_shear", "output", "in_situ"})
     if (const toml::node* n = root.get(key); n && !n->is_table())
       throw InputError(r.at(*n, key) + ": expected a table, written [" + std::string(key) + "]");
   return title;
@@ -471,12 +503,35 @@ BlockSpec CaseReader::block(const toml::table& t) const {
   return b;
 }
 
+InSituSpec CaseReader::in_situ(const toml::table& t) const {
+  const Reader r{file_, base_dir_};
+  const std::string path = "in_situ";
+  r.check_keys(t, path, {"surface", "density", "surcharge", "K", "sxy"});
+  InSituSpec s;
+  s.where = r.at_table(t, path);
+  if (const toml::node* n = t.get("surface")) {
+    s.surface = r.quantity(*n, Dimension::length, path + ".surface");
+    s.surface_where = r.at(*n, path + ".surface");
+  }
+  if (const toml::node* n = t.get("density")) {
+    s.density = r.quantity(*n, Dimension::density, path + ".density");
+    s.density_where = r.at(*n, path + ".density");
+    if (*s.density < 0.0) throw InputError(s.density_where + ": 'density' must not be negative");
+  }
+  s.surcharge = r.quantity(t, "surcharge", Dimension::stress, path, 0.0);
+  // K has no default: a horizontal stress is a statement about the site, not a convention.
+  s.k = r.quantity(t, "K", Dimension::dimensionless, path);
+  if (!(s.k >= 0.0)) throw InputError(r.at(*t.get("K"), path + ".K") + ": K = sigma_H / sigma_v must be >= 0");
+  s.sxy = r.quantity(t, "sxy", Dimension::stress, path, 0.0);
+  return s;
+}
+
 BoundarySpec CaseReader::boundary(const toml::table& t) const {
   const Reader r{file_, base_dir_};
   const std::string path = "boundary";
   // Every kind's keys are valid in any [[boundary]]; a kind reads only its own.
   const ConditionKinds& kinds = ConditionKinds::instance();
-  std::vector<std::string> keys{"type", "block", "face"};
+  std::vector<std::string> keys{"type", "block", "face", "box", "line"};
   for (const auto& k : kinds.key_names()) keys.push_back(k);
   keys.push_back("stages");
   r.check_keys_in(t, path, keys);
@@ -484,8 +539,13 @@ BoundarySpec CaseReader::boundary(const toml::table& t) const {
   b.where = r.at_table(t, path);
   b.type = r.str(t, "type", path);
   b.type_where = r.at(*t.get("type"), path + ".type");
-  b.block = r.str(t, "block", path);
-  b.block_where = r.at(r.need(t, "block", path), path + ".block");
+  b.region = read_region(r, t, path, b.region_where);
+  if (!b.region) {
+    b.block = r.str(t, "block", path);
+    b.block_where = r.at(r.need(t, "block", path), path + ".block");
+  } else if (t.contains("block")) {
+    throw InputError(r.at(*t.get("block"), path + ".block") + ": give either block (and face) or a region (box or line), not both");
+  }
   b.face = r.str(t, "face", path, std::string("all"));
   b.face_given = t.contains("face");
   b.face_where = b.face_given ? r.at(*t.get("face"), path + ".face") : b.where;
@@ -504,10 +564,31 @@ StageInput CaseReader::stage(const toml::table& t) const {
   s.name = r.str(t, "name", "stages");
   const std::string path = "stages." + s.name;
   r.check_keys(t, path, {"name", "damping", "local_damping", "damping_ratio", "damping_frequency", "until", "duration",
-                         "steps", "ratio", "max_steps", "joints"});
+                         "steps", "ratio", "max_steps", "joints", "excavate", "relax_steps", "mass_scaling_dt",
+                         "mass_scaling"});
   if (const auto* jn = t.get("joints")) in.joint_changes = read_joint_changes(r, *jn, path);
   s.damping = read_damping(r, t, path);
   read_until(r, t, path, s);
+  if (const auto* ex = r.array(t, "excavate"))
+    for (const auto& e : *ex) {
+      in.excavate.push_back(r.str(e, path + ".excavate"));
+      in.excavate_wheres.push_back(r.at(e, path + ".excavate"));
+    }
+  s.relax_steps = r.integer(t, "relax_steps", path, 0);
+  if (s.relax_steps < 0) throw InputError(r.at(*t.get("relax_steps"), path + ".relax_steps") + ": must be >= 0 steps");
+  if (t.contains("relax_steps") && in.excavate.empty())
+    throw InputError(r.at(*t.get("relax_steps"), path + ".relax_steps") + ": relax_steps releases the forces of "
+                     "excavated blocks; the stage excavates none (add excavate = [...])");
+  if (t.contains("mass_scaling_dt") && t.contains("mass_scaling"))
+    throw InputError(r.at(*t.get("mass_scaling"), path + ".mass_scaling") + ": give mass_scaling_dt (scaled) or "
+                     "mass_scaling = false (real masses), not both");
+  if (t.contains("mass_scaling_dt")) s.mass_scaling_dt = r.positive(t, "mass_scaling_dt", Dimension::time, path);
+  if (t.contains("mass_scaling")) {
+    if (r.boolean(t, "mass_scaling", path, false))
+      throw InputError(r.at(*t.get("mass_scaling"), path + ".mass_scaling") + ": mass_scaling = true needs a time "
+                       "step: write mass_scaling_dt = \"...\" instead");
+    s.mass_scaling_dt = 0.0;
+  }
   return in;
 }
 
@@ -516,20 +597,36 @@ HistoryInput CaseReader::history(const toml::table& t) const {
   HistoryInput h;
   h.name = r.str(t, "name", "histories");
   const std::string path = "histories." + h.name;
-  r.check_keys(t, path, {"name", "quantity", "block", "component", "face", "scale", "unit", "description"});
+  r.check_keys(t, path, {"name", "quantity", "block", "component", "face", "scale", "unit", "description", "at", "to"});
   h.quantity = r.str(t, "quantity", path);
   h.quantity_where = r.at(*t.get("quantity"), path + ".quantity");
   const HistoryQuantity& q = HistoryQuantities::instance().get(h.quantity, h.quantity_where);
   h.unit = r.str(t, "unit", path, q.unit);
   h.description = r.str(t, "description", path, h.quantity);
   h.scale = r.quantity(t, "scale", Dimension::dimensionless, path, 1.0);
-  if (!q.needs_block) return h;  // the other keys are not read then
-  h.block = r.str(t, "block", path);
-  h.block_where = r.at(r.need(t, "block", path), path + ".block");
   if (const toml::node* n = t.get("component")) {
     h.component = r.str(*n, path + ".component");
     h.component_where = r.at(*n, path + ".component");
   }
+  if (q.needs_point) {
+    auto point = [&](const char* key, std::string& where) -> std::optional<Vec2> {
+      const auto* a = r.array(t, key);
+      if (!a) return std::nullopt;
+      where = r.at(*a, path + "." + key);
+      if (a->size() != 2) throw InputError(where + ": expected [x, y] with units, e.g. [\"2 m\", \"-1.5 m\"]");
+      return Vec2(r.quantity(*a->get(0), Dimension::length, path + "." + key),
+                  r.quantity(*a->get(1), Dimension::length, path + "." + key));
+    };
+    h.at = point("at", h.at_where);
+    if (!h.at) throw InputError(r.at_table(t, path) + ": quantity '" + q.name + "' is measured by location: give at = [x, y]");
+    h.to = point("to", h.to_where);
+    if (h.to && !q.takes_segment)
+      throw InputError(h.to_where + ": 'to' (a joint segment) is for contact quantities; '" + q.name + "' is measured at a point");
+    return h;
+  }
+  if (!q.needs_block) return h;  // the other keys are not read then
+  h.block = r.str(t, "block", path);
+  h.block_where = r.at(r.need(t, "block", path), path + ".block");
   if (q.needs_face) {
     h.face = r.str(t, "face", path);
     h.face_where = r.at(*t.get("face"), path + ".face");

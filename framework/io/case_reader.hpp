@@ -30,6 +30,7 @@ class CaseReader {
   MaterialSpec material(const toml::table& t) const;             // [[materials]]
   JointSpec joint(const toml::table& t) const;                   // [[joints]]
   BlockSpec block(const toml::table& t) const;                   // [[blocks]]
+  InSituSpec in_situ(const toml::table& t) const;                // [in_situ]
   BoundarySpec boundary(const toml::table& t) const;             // [[boundary]]
   StageInput stage(const toml::table& t) const;                  // [[stages]]
   HistoryInput history(const toml::table& t) const;              // [[histories]]

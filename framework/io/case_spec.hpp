@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "framework/boundary/condition_kinds.hpp"
+#include "framework/boundary/region.hpp"
 #include "framework/core/params.hpp"
 #include "framework/geometry/polygon.hpp"
 #include "framework/io/case_data.hpp"
@@ -69,10 +70,22 @@ struct BlockSpec {
   std::string where, shape_where, material_where, zones_where, mesh_where;
 };
 
+// [in_situ]: the stress field the model starts from (framework/model/stress_field.hpp).
+struct InSituSpec {
+  std::optional<double> surface;  // y of the datum [m]; default the top of the model
+  std::optional<double> density;  // [kg/m3]; default the blocks' (which must then agree)
+  double surcharge = 0.0;         // vertical stress at the datum, compression positive [Pa]
+  double k = 1.0;                 // sigma_H / sigma_v
+  double sxy = 0.0;               // tension-positive convention [Pa]
+  std::string where, surface_where, density_where;
+};
+
 // [[boundary]]: a condition of a registered kind (framework/boundary/condition_kinds.hpp) on a
 // block's face, with the values of the kind's keys.
 struct BoundarySpec {
-  std::string type, block;
+  std::string type, block;  // block empty: the condition acts on `region`
+  std::optional<Region> region;  // box or line: every boundary gridpoint in it, any block
+  std::string region_where;
   std::string face = "all";
   bool face_given = false;
   std::map<std::string, ConditionValue> values;
@@ -89,6 +102,8 @@ struct StageInput {
   };
   StageSpec stage;  // joint_models left empty: the builder makes them from `joint_changes`
   std::vector<JointChange> joint_changes;
+  // Block or group names the stage excavates, with where each was written.
+  std::vector<std::string> excavate, excavate_wheres;
 };
 
 // [[histories]]
@@ -99,6 +114,8 @@ struct HistoryInput {
   std::string description;
   double scale = 1.0;
   std::string quantity_where, block_where, component_where, face_where;
+  std::optional<Vec2> at, to;  // quantities by location [m]
+  std::string at_where, to_where;
 };
 
 // [direct_shear]: blocks by name; see DirectShearSpec.
@@ -121,6 +138,7 @@ struct CaseSpec {
   std::vector<MaterialSpec> materials;
   std::vector<JointSpec> joints;
   std::vector<BlockSpec> blocks;
+  std::optional<InSituSpec> in_situ;
   std::vector<BoundarySpec> boundaries;
   std::vector<StageInput> stages;
   std::vector<HistoryInput> histories;

@@ -54,6 +54,8 @@ class Engine {
   Model& model() { return m_; }
   const Model& model() const { return m_; }
   const EngineSettings& settings() const { return s_; }
+  // The stable time step masses are scaled to (0: real masses), from the next begin_stage on.
+  void set_mass_scaling_dt(double dt) { s_.mass_scaling_dt = dt; }
 
  private:
   void compute_time_step();

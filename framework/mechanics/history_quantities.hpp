@@ -21,6 +21,10 @@ struct HistoryTarget {
   int block = -1;
   int component = 0;        // index into HistoryQuantity::components
   std::vector<int> points;  // gridpoints of a block face
+  // Quantities by location (needs_point): the point `at` [m], or with `segment` the joint
+  // segment from `at` to `to`.
+  Vec2 at = Vec2::Zero(), to = Vec2::Zero();
+  bool segment = false;
 };
 
 // How the values of the processes of a parallel run combine into the history's value. Declared
@@ -42,6 +46,8 @@ struct HistoryQuantity {
   std::vector<std::string> components;  // accepted `component`s, the first is the default; empty: none
   Reduction reduction = Reduction::sum;
   std::function<double(const Model&, const Engine&, const HistoryTarget&)> measure;
+  bool needs_point = false;    // `at` (and optionally `to`) locate what is measured
+  bool takes_segment = false;  // `to` may be given: averaged over the joint segment at..to
 };
 
 // Quantities by name; listed (in messages) in name order.

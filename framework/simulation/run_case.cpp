@@ -14,6 +14,8 @@
 #include "framework/io/checkpoint.hpp"
 #include "framework/io/vtk_output.hpp"
 #include "framework/mechanics/engine.hpp"
+#include "framework/mechanics/in_situ.hpp"
+#include "framework/simulation/excavate.hpp"
 #include "framework/simulation/recorder.hpp"
 #include "framework/simulation/stage.hpp"
 
@@ -32,11 +34,40 @@ std::string human_seconds(double s) {
   return os.str();
 }
 
+// A stage checkpoint written after an excavation holds fewer blocks than the case's model: the
+// excavations of the completed stages are made again, one stage at a time, until the checkpoint
+// fits (a restore that does not fit leaves the model untouched), and they must be exactly those
+// of the stages the checkpoint completed.
+CheckpointScalars read_after_excavations(Case& c, const std::string& restart) {
+  std::size_t done = 0;  // stages up to here have had their excavation made again
+  std::string first_error;
+  CheckpointScalars extra;
+  for (;;) {
+    try {
+      extra = read_checkpoint(c.model, restart);
+      break;
+    } catch (const InputError& e) {
+      if (first_error.empty()) first_error = e.what();
+      while (done < c.stages.size() && c.stages[done].excavate.empty()) ++done;
+      if (done == c.stages.size()) throw InputError(first_error);
+      excavate(c, c.conditions, c.stages[done]);
+      ++done;
+    }
+  }
+  const auto it = extra.find("stages_completed");
+  const double completed = it == extra.end() ? 0.0 : it->second;
+  for (std::size_t k = 0; k < c.stages.size(); ++k)
+    if (!c.stages[k].excavate.empty() && (k < done) != (static_cast<double>(k) < completed))
+      throw InputError(restart + ": the checkpoint's blocks do not follow this case's excavations (stage '" +
+                       c.stages[k].name + "'); restart from a stage checkpoint of this case");
+  return extra;
+}
+
 // The stage a run begins with: the first, or after a restart the one following the stages its
 // checkpoint completed (the model state is read back from it).
 std::size_t read_restart(Case& c, const std::string& restart) {
   if (restart.empty()) return 0;
-  const auto extra = read_checkpoint(c.model, restart);
+  const auto extra = read_after_excavations(c, restart);
   const auto it = extra.find("stages_completed");
   if (it == extra.end() || it->second < 1 || it->second > static_cast<double>(c.stages.size()))
     throw InputError(restart + ": not a stage checkpoint of this case (valid: the stage_<n>_<name>.h5 files a run of it writes)");
@@ -128,6 +159,9 @@ void write_stage_checkpoint(const Run& r, std::size_t index) {
 }
 
 void run_stage(Run& r, const StageJointModels& joints, std::size_t index) {
+  std::unique_ptr<BoundaryCondition> relax;
+  excavate(r.c, r.engine.conditions(), r.c.stages[index], &relax);
+  if (relax) r.engine.add_condition(std::move(relax));
   const StageRunner stage(r.c, r.engine, joints, index);
   r.rec.stage_started(static_cast<int>(index) + 1, stage.spec().name);
   const long vtk_every = r.c.output.vtk_interval > 0 ? r.c.output.vtk_interval : std::max(100L, stage.planned_steps() / 25);
@@ -202,6 +236,14 @@ RunResult run_case(Case& c, const fs::path& out, bool quiet, const std::string& 
   }
   progress.run_started(out);
   Run r{c, out, engine, rec, vtk, progress};
+  // A restart reads the state the field started; a new run starts from the field.
+  if (restart.empty() && c.in_situ) {
+    const InSituReport rep = initialise_in_situ(c.model, *c.in_situ, c.settings.detection);
+    if (!quiet)
+      std::cout << "in-situ stress: " << rep.zones << " zones, " << rep.contacts << " contacts pre-loaded (largest error "
+                << rep.worst_error << " Pa" << (rep.at_strength ? ", " + std::to_string(rep.at_strength) + " at their shear strength" : "")
+                << ")\n";
+  }
   try {
     for (std::size_t si = first_stage; si < c.stages.size(); ++si) run_stage(r, joints, si);
   } catch (const InstabilityError& e) {

@@ -17,6 +17,7 @@ void StageJointModels::put_in_force(Case& c, std::size_t stage) const {
 StageRunner::StageRunner(Case& c, Engine& e, const StageJointModels& joints, std::size_t index)
     : st_(c.stages[index]), e_(e) {
   joints.put_in_force(c, index);
+  e.set_mass_scaling_dt(st_.mass_scaling_dt.value_or(c.settings.mass_scaling_dt));
   e.begin_stage(st_.name, st_.damping);
   duration_ = st_.duration;
   if (st_.until == StageSpec::Until::duration && st_.auto_duration) {

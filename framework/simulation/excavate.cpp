@@ -1,0 +1,75 @@
+#include "framework/simulation/excavate.hpp"
+
+#include <algorithm>
+#include <map>
+
+#include "framework/boundary/relax_condition.hpp"
+#include "framework/model/excavation.hpp"
+
+namespace rockdem {
+namespace {
+
+// The last contact forces between removed and remaining blocks, on the remaining gridpoints
+// (old positions): the force on the point's block and its reaction shared by the edge's ends,
+// as Engine::contact_forces applies them.
+std::map<int, Vec2> released_forces(const Model& m, const std::vector<char>& gone) {
+  std::map<int, Vec2> out;
+  for (const Contact& c : m.contacts.items) {
+    const int pb = static_cast<int>(m.gp[c.point].block);
+    if (gone[static_cast<std::size_t>(pb)] == gone[static_cast<std::size_t>(c.other)]) continue;
+    if (c.response.open) continue;
+    const Vec2 t(c.normal.y(), -c.normal.x());
+    const Vec2 f = c.length * (c.response.sigma_n * c.normal - c.response.tau * t);
+    if (!gone[static_cast<std::size_t>(pb)]) {
+      out[c.point] += f;
+      continue;
+    }
+    const Block& B = m.blocks[static_cast<std::size_t>(c.other)];
+    const int n = static_cast<int>(B.boundary.size());
+    out[B.boundary[c.edge]] -= (1.0 - c.s) * f;
+    out[B.boundary[(c.edge + 1) % n]] -= c.s * f;
+  }
+  return out;
+}
+
+}  // namespace
+
+std::size_t excavate(Case& c, const std::vector<std::unique_ptr<BoundaryCondition>>& conditions, const StageSpec& stage,
+                     std::unique_ptr<BoundaryCondition>* relax) {
+  Model& m = c.model;
+  std::vector<int> positions;
+  std::vector<char> gone(m.blocks.size(), 0);
+  for (std::size_t b = 0; b < m.blocks.size(); ++b)
+    if (std::count(stage.excavate.begin(), stage.excavate.end(), m.blocks[b].id)) {
+      positions.push_back(static_cast<int>(b));
+      gone[b] = 1;
+    }
+  if (positions.empty()) return 0;
+  const std::map<int, Vec2> released = relax && stage.relax_steps > 0 ? released_forces(m, gone) : std::map<int, Vec2>{};
+  const Renumbering r = remove_blocks(m, positions);
+  for (const auto& bc : conditions)
+    if (!bc->renumber(r)) bc->removed = true;
+  for (auto& h : c.histories) {
+    if (h.target.block >= 0) h.target.block = r.block[static_cast<std::size_t>(h.target.block)];
+    r.points(h.target.points);
+  }
+  std::vector<std::string> names;
+  for (std::size_t b = 0; b < c.block_names.size(); ++b)
+    if (!gone[b]) names.push_back(c.block_names[b]);
+  c.block_names = std::move(names);
+  auto& d = c.direct_shear;
+  for (int* b : {&d.loader, &d.top, &d.bottom})
+    if (*b >= 0) *b = r.block[static_cast<std::size_t>(*b)];
+  for (int& b : d.other_loaders) b = r.block[static_cast<std::size_t>(b)];
+  r.points(d.top_face);
+  r.points(d.bottom_face);
+  if (!released.empty()) {
+    std::vector<std::pair<int, Vec2>> forces;
+    for (const auto& [g, f] : released) forces.emplace_back(r.gp[static_cast<std::size_t>(g)], f);
+    *relax = std::make_unique<RelaxCondition>(std::move(forces), stage.relax_steps);
+    (*relax)->stages = {stage.name};
+  }
+  return positions.size();
+}
+
+}  // namespace rockdem
