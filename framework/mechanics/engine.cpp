@@ -188,9 +188,13 @@ void Engine::step() {
   update_contact_geometry(m_);
   for (auto& g : m_.gp) g.f.setZero();
   applied_sum_ = 0.0;
-  zone_forces(m_, dt_, damping_.kind == Damping::Kind::rayleigh ? damping_.beta : 0.0);
+  const double beta = damping_.kind == Damping::Kind::rayleigh ? damping_.beta : 0.0;
+  zone_forces(m_, dt_, beta);
+  energy_.after_zone_forces(m_, beta);
   contact_forces();
+  energy_.before_boundary_forces(m_);
   for (auto* bc : active_) applied_sum_ += bc->forces(m_, stage_time_);
+  energy_.after_boundary_forces(m_);
   // Gravity on the physical (unscaled) mass.
   if (m_.gravity.squaredNorm() > 0.0) {
     for (auto& g : m_.gp)
@@ -220,6 +224,7 @@ void Engine::step() {
       g.v = b.vc + b.omega * perp(r);
     }
   }
+  energy_.after_step(m_, EnergyMasses{inertial_mass_, block_mass_, block_inertia_}, dt_, beta);
   m_.time += dt_;
   stage_time_ += dt_;
   ++m_.step;

@@ -9,6 +9,7 @@
 
 #include "framework/boundary/conditions.hpp"
 #include "framework/contact/detection.hpp"
+#include "framework/mechanics/energy_balance.hpp"
 #include "framework/mechanics/engine_settings.hpp"
 #include "framework/model/model.hpp"
 
@@ -46,6 +47,13 @@ class Engine {
   // Contact force exerted on a block (sum over its contacts) in the last step [N/m].
   Vec2 contact_force_on(int block) const;
   double kinetic_energy() const;
+  // The energy balance since the first call (energy_balance.hpp). The accounting costs a few
+  // passes over the gridpoints per step, so it runs only once something has asked for it: the
+  // first call starts it (a history of it is first sampled before the first step of a run).
+  const EnergyTerms& energy() const {
+    if (!energy_.tracking()) energy_.start();
+    return energy_.terms();
+  }
 
   const ModelSnapshot& last_good() const { return last_good_; }
   ModelSnapshot snapshot() const;
@@ -79,6 +87,7 @@ class Engine {
   std::vector<double> smooth_w_;                  // and spin
   static constexpr double kDampingWindow = 1000.0;  // steps
   ModelSnapshot last_good_;
+  mutable EnergyBalance energy_;  // started by the first energy() call
   long steps_since_refresh_ = 0;
 };
 
