@@ -61,7 +61,7 @@ void Engine::begin_stage(const std::string& name, const Damping& d) {
       smooth_v_[b] /= mass[b];
     }
   }
-  last_good_ = snapshot();
+  last_good_.take(m_);
 }
 
 void Engine::refresh_contacts() {
@@ -351,7 +351,7 @@ void Engine::check_state() {
       throw InstabilityError(os.str());
     }
   }
-  last_good_ = snapshot();
+  if (m_.step - last_good_.step >= kGoodStateInterval) last_good_.take(m_);
 }
 
 double Engine::kinetic_energy() const {
@@ -364,16 +364,47 @@ double Engine::kinetic_energy() const {
 }
 
 ModelSnapshot Engine::snapshot() const {
-  return ModelSnapshot{m_.gp, m_.zones, m_.blocks, m_.contacts.items, m_.time, m_.step};
+  ModelSnapshot s;
+  s.take(m_);
+  return s;
 }
 
-void Engine::restore(const ModelSnapshot& s) {
-  m_.gp = s.gp;
-  m_.zones = s.zones;
-  m_.blocks = s.blocks;
-  m_.contacts.restore(std::vector<Contact>(s.contacts));
-  m_.time = s.time;
-  m_.step = s.step;
+void Engine::restore(const ModelSnapshot& s) { s.put(m_); }
+
+void ModelSnapshot::take(const Model& m) {
+  // Copy-assignment keeps each vector's storage when it is large enough.
+  gp = m.gp;
+  zones = m.zones;
+  contacts = m.contacts.items;
+  blocks.resize(m.blocks.size());
+  for (std::size_t b = 0; b < blocks.size(); ++b) {
+    const Block& B = m.blocks[b];
+    blocks[b] = BlockMotion{B.xc, B.vc, B.fc, B.theta, B.omega, B.moment, B.fixed, B.prescribed};
+  }
+  time = m.time;
+  step = m.step;
+}
+
+bool ModelSnapshot::put(Model& m) const {
+  if (blocks.size() != m.blocks.size() || gp.size() != m.gp.size() || zones.size() != m.zones.size()) return false;
+  m.gp = gp;
+  m.zones = zones;
+  for (std::size_t b = 0; b < blocks.size(); ++b) {
+    Block& B = m.blocks[b];
+    const BlockMotion& s = blocks[b];
+    B.xc = s.xc;
+    B.vc = s.vc;
+    B.fc = s.fc;
+    B.theta = s.theta;
+    B.omega = s.omega;
+    B.moment = s.moment;
+    B.fixed = s.fixed;
+    B.prescribed = s.prescribed;
+  }
+  m.contacts.restore(std::vector<Contact>(contacts));
+  m.time = time;
+  m.step = step;
+  return true;
 }
 
 }  // namespace rockdem
