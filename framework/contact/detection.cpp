@@ -5,6 +5,7 @@
 #include <limits>
 #include <unordered_map>
 
+#include "framework/contact/broad_phase.hpp"
 #include "framework/geometry/polygon.hpp"
 
 namespace rockdem {
@@ -211,48 +212,13 @@ bool band_interval(const Vec2& a, const Vec2& b, const Vec2& p, const Vec2& n, c
 
 }  // namespace
 
-std::vector<std::pair<int, int>> broad_phase(const Model& m, double margin) {
-  const int nb = static_cast<int>(m.blocks.size());
-  std::vector<Box> boxes(nb);
-  double mean_size = 0.0;
-  for (int i = 0; i < nb; ++i) {
-    boxes[i] = block_box(m, m.blocks[i], margin);
-    mean_size += (boxes[i].hi - boxes[i].lo).maxCoeff();
-  }
-  std::vector<std::pair<int, int>> pairs;
-  if (nb < 2) return pairs;
-  mean_size /= nb;
-  // Cells about the mean block size: each block falls in a few cells, each cell holds a few blocks.
-  const double cell = std::max(mean_size, 1e-12);
-  std::unordered_map<std::int64_t, std::vector<int>> grid;
-  grid.reserve(static_cast<std::size_t>(nb) * 4);
-  auto key = [](std::int64_t ix, std::int64_t iy) { return (ix << 32) ^ (iy & 0xffffffff); };
-  for (int i = 0; i < nb; ++i) {
-    const auto x0 = static_cast<std::int64_t>(std::floor(boxes[i].lo.x() / cell));
-    const auto x1 = static_cast<std::int64_t>(std::floor(boxes[i].hi.x() / cell));
-    const auto y0 = static_cast<std::int64_t>(std::floor(boxes[i].lo.y() / cell));
-    const auto y1 = static_cast<std::int64_t>(std::floor(boxes[i].hi.y() / cell));
-    for (auto ix = x0; ix <= x1; ++ix)
-      for (auto iy = y0; iy <= y1; ++iy) grid[key(ix, iy)].push_back(i);
-  }
-  for (auto& [k, list] : grid) {
-    for (std::size_t a = 0; a < list.size(); ++a)
-      for (std::size_t b = a + 1; b < list.size(); ++b) {
-        const int i = std::min(list[a], list[b]), j = std::max(list[a], list[b]);
-        const Box &A = boxes[i], &B = boxes[j];
-        if (A.lo.x() <= B.hi.x() && B.lo.x() <= A.hi.x() && A.lo.y() <= B.hi.y() && B.lo.y() <= A.hi.y())
-          pairs.emplace_back(i, j);
-      }
-  }
-  std::sort(pairs.begin(), pairs.end());
-  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
-  return pairs;
-}
-
 std::size_t detect_contacts(Model& m, const DetectionSettings& s) {
-  std::vector<Contact> found;
-  found.reserve(m.contacts.items.size() + 16);
-  const auto pairs = broad_phase(m, s.distance);
+  // Buffers kept between passes (broad_phase.hpp); merge() hands the old contact list back.
+  DetectionBuffers& buffers = detection_buffers();
+  std::vector<Contact>& found = buffers.found;
+  found.clear();
+  broad_phase_pairs(m, s.distance, buffers.pairs);
+  const auto& pairs = buffers.pairs;
   auto scan = [&](int ia, int ib) {
     const Block& A = m.blocks[ia];
     const Block& B = m.blocks[ib];
