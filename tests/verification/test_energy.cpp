@@ -4,6 +4,7 @@
 //   high friction: it bounces back to its drop height without rotating, and the balance closes;
 // - a block sliding on an incline (gravity tilted): the energy dissipated by slip is mu N slip;
 // - a deformable elastic block vibrating freely: kinetic + strain energy stays constant;
+// - boundaries doing work: a block compressed by a prescribed velocity and pushed by a traction;
 // - a deformable block settling on a fixed base under local damping: the damping's dissipation
 //   closes the balance.
 // Verification test 4 of issue 10, energy part (docs/verification.md).
@@ -14,6 +15,8 @@
 #include <numbers>
 
 #include "framework/boundary/fixed_condition.hpp"
+#include "framework/boundary/traction_condition.hpp"
+#include "framework/boundary/velocity_condition.hpp"
 #include "framework/core/params.hpp"
 #include "framework/geometry/mesh.hpp"
 #include "framework/mechanics/engine.hpp"
@@ -206,4 +209,59 @@ TEST(Energy, LocallyDampedSettleClosesTheBalance) {
   EXPECT_GT(t.damping, 0.5 * t.gravity_work);
   EXPECT_LT(std::abs(t.error), 0.01);
   EXPECT_LT(worst, 0.01);
+}
+
+// Boundaries doing work, undamped, no gravity: an elastic 0.5 m x 0.5 m block (10 x 10 cells) on
+// a fixed base, its top face driven down at 1 mm/s; then the same block pushed by a 1 MPa
+// traction on its left face (right face on rollers). Whatever the boundaries put in must be in
+// the kinetic and strain energy: the balance within 1 % at every step, and the work of the
+// traction equal to q times the area swept by the face (at the same whole step) within 1 %.
+TEST(Energy, BoundaryWorkGoesIntoKineticAndStrainEnergy) {
+  for (const bool traction : {false, true}) {
+    Model m;
+    m.materials.push_back(std::make_unique<RockMaterialAdapter<ElasticRock>>(ElasticRock::Params{kRho, 2e9, 1.5e9}));
+    add_deformable_block(m, mesh_rectangle(0.0, 0.0, 0.5, 0.5, 10, 10), 0, "block", 0);
+    Engine e(m, EngineSettings{});
+    e.add_condition(std::make_unique<FixedCondition>(select_face(m, 0, {0, -1}), true, true, false));
+    if (traction) {
+      e.add_condition(std::make_unique<FixedCondition>(select_face(m, 0, {1, 0}), true, false, false));
+      e.add_condition(std::make_unique<TractionCondition>(select_face(m, 0, {-1, 0}), TimeFunction::constant(1e6),
+                                                          TimeFunction::constant(0.0)));
+    } else {
+      e.add_condition(std::make_unique<VelocityCondition>(select_face(m, 0, {0, 1}), false, std::nullopt,
+                                                          TimeFunction::constant(-1e-3), std::nullopt));
+    }
+    e.begin_stage("load", none());
+    e.energy();
+    double worst = 0.0;
+    for (int i = 0; i < 4000; ++i) {
+      e.step();
+      worst = std::max(worst, std::abs(e.energy().error));
+    }
+    const EnergyTerms& t = e.energy();
+    // Area swept by the left face (its mean x displacement times its height): the traction's work.
+    double swept = 0.0;
+    if (traction) {
+      const FaceSelection left = select_face(m, 0, {-1, 0});
+      for (std::size_t k = 0; k < left.edges.size(); ++k) {
+        const Block& B = m.blocks[0];
+        const int n = static_cast<int>(B.boundary.size());
+        const GridPoint& a = m.gp[B.boundary[left.edges[k]]];
+        const GridPoint& b = m.gp[B.boundary[(left.edges[k] + 1) % n]];
+        // At whole step n, where the balance stands: x(n) = x(n+1) - v(n+1/2) dt.
+        const double ua = (a.x - a.v * e.dt() - a.x0).x(), ub = (b.x - b.v * e.dt() - b.x0).x();
+        swept += 0.5 * (ua + ub) * std::abs(b.x0.y() - a.x0.y());
+      }
+    }
+    std::cout << "[          ] " << (traction ? "traction" : "velocity") << ": boundary work " << t.boundary_work
+              << " J/m, kinetic " << t.kinetic << ", strain " << t.strain << " J/m"
+              << (traction ? ", q x swept area " + std::to_string(1e6 * swept) + " J/m" : std::string())
+              << "; max |balance error| " << worst * 100 << " %\n";
+    EXPECT_GT(t.boundary_work, 0.0);
+    EXPECT_GT(t.strain, 0.1 * t.boundary_work);
+    EXPECT_LT(worst, 0.01);
+    if (traction) {
+      EXPECT_NEAR(t.boundary_work, 1e6 * swept, 0.01 * t.boundary_work);
+    }
+  }
 }
