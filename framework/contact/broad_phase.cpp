@@ -35,6 +35,31 @@ DetectionBuffers& detection_buffers() {
   return b;
 }
 
+ClusterBuffers& cluster_buffers() {
+  thread_local ClusterBuffers b;
+  return b;
+}
+
+void PairTable::reset(std::size_t expected) {
+  std::size_t size = 16;
+  while (size < 2 * expected) size *= 2;
+  keys_.assign(size, -1);  // block ids are not negative, so no pair key is -1
+  values_.resize(size);
+}
+
+int& PairTable::at(std::int64_t key) {
+  const std::size_t mask = keys_.size() - 1;
+  auto h = static_cast<std::uint64_t>(key) * 0x9E3779B97F4A7C15ull;
+  for (std::size_t s = static_cast<std::size_t>(h >> 32) & mask;; s = (s + 1) & mask) {
+    if (keys_[s] == key) return values_[s];
+    if (keys_[s] == -1) {
+      keys_[s] = key;
+      values_[s] = -1;
+      return values_[s];
+    }
+  }
+}
+
 void broad_phase_pairs(const Model& m, double margin, std::vector<std::pair<int, int>>& pairs) {
   pairs.clear();
   const int nb = static_cast<int>(m.blocks.size());

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <unordered_map>
 
 #include "framework/contact/broad_phase.hpp"
 #include "framework/geometry/polygon.hpp"
@@ -318,36 +317,32 @@ void update_contact_geometry(Model& m) {
 void update_contact_lengths(Model& m, const DetectionSettings& s) {
   auto& items = m.contacts.items;
   const double w = s.distance;
-  // Own and facing intervals, on the tangent through each contact point.
-  struct Span {
-    std::size_t c;
-    double lo, hi;   // along the cluster tangent, absolute coordinate
-    double at;       // the contact point's own coordinate
-    bool touching;
-  };
+  // Own and facing intervals, on the tangent through each contact point (ClusterSpan).
   // Cluster by block pair and normal direction (normals of the second block's points flipped).
-  struct Cluster {
-    BlockId a, b;
-    Vec2 n;
-    std::vector<Span> spans;
-  };
-  std::vector<Cluster> clusters;
-  std::unordered_map<std::int64_t, std::vector<std::size_t>> by_pair;
+  // The clusters of a block pair are chained from the pair's entry in a flat table; spans are
+  // gathered cluster by cluster afterwards (a stable counting sort), all in buffers kept between
+  // calls (ClusterBuffers, broad_phase.hpp).
+  ClusterBuffers& cb = cluster_buffers();
+  auto& clusters = cb.clusters;
+  clusters.clear();
+  cb.spans.clear();
+  cb.pairs.reset(items.size());
   for (std::size_t i = 0; i < items.size(); ++i) {
     const Contact& c = items[i];
     const BlockId a = std::min(c.key.point_block, c.key.other_block);
     const BlockId b = std::max(c.key.point_block, c.key.other_block);
     const Vec2 n = c.key.point_block == a ? c.normal : Vec2(-c.normal);
     const std::int64_t pk = (static_cast<std::int64_t>(a) << 32) | static_cast<std::uint32_t>(b);
-    auto& list = by_pair[pk];
-    std::size_t ci = clusters.size();
-    for (std::size_t k : list)
-      if (clusters[k].n.dot(n) > 0.866) { ci = k; break; }  // within 30 degrees
-    if (ci == clusters.size()) {
-      clusters.push_back({a, b, n, {}});
-      list.push_back(ci);
+    int& head = cb.pairs.at(pk);
+    int ci = -1, last = -1;
+    for (int k = head; k >= 0; last = k, k = clusters[static_cast<std::size_t>(k)].next)
+      if (clusters[static_cast<std::size_t>(k)].n.dot(n) > 0.866) { ci = k; break; }  // within 30 degrees
+    if (ci < 0) {
+      ci = static_cast<int>(clusters.size());
+      clusters.push_back({n, -1});
+      (last < 0 ? head : clusters[static_cast<std::size_t>(last)].next) = ci;
     }
-    const Vec2 t(clusters[ci].n.y(), -clusters[ci].n.x());
+    const Vec2 t(clusters[static_cast<std::size_t>(ci)].n.y(), -clusters[static_cast<std::size_t>(ci)].n.x());
     // Own tributary: the half-edges on both sides of the point, inside the contact band.
     const Block& A = m.blocks[m.gp[c.point].block];
     const Block& B = m.blocks[c.other];
@@ -387,21 +382,30 @@ void update_contact_lengths(Model& m, const DetectionSettings& s) {
     }
     const double base = p.dot(t);
     const bool touching = !c.response.open && c.pretouch_gap <= 0.0;
-    clusters[ci].spans.push_back({i, base + x0, base + std::max(x0, x1), base, touching});
+    cb.spans.push_back({ci, i, base + x0, base + std::max(x0, x1), base, touching});
   }
+  // Spans cluster by cluster, each cluster's in contact order.
+  cb.start.assign(clusters.size() + 1, 0);
+  for (const ClusterSpan& sp : cb.spans) ++cb.start[static_cast<std::size_t>(sp.cluster) + 1];
+  for (std::size_t k = 1; k < cb.start.size(); ++k) cb.start[k] += cb.start[k - 1];
+  cb.sorted.resize(cb.spans.size());
+  cb.cursor.assign(cb.start.begin(), cb.start.end() - 1);
+  for (const ClusterSpan& sp : cb.spans) cb.sorted[cb.cursor[static_cast<std::size_t>(sp.cluster)]++] = &sp;
   // Each touching contact owns its Voronoi cell among the touching contacts of both blocks along
   // the interface, clipped to its own stretch. The cells partition the overlap, and they change
   // continuously as points of one block slide past points of the other or past an edge's end
   // (a newly covered point starts with a cell of zero length, not with half its tributary).
-  for (Cluster& cl : clusters) {
-    std::vector<const Span*> touching;
-    for (const Span& sp : cl.spans) {
+  auto& touching = cb.touching;
+  for (std::size_t cl = 0; cl < clusters.size(); ++cl) {
+    touching.clear();
+    for (std::size_t k = cb.start[cl]; k < cb.start[cl + 1]; ++k) {
+      const ClusterSpan& sp = *cb.sorted[k];
       if (sp.touching) touching.push_back(&sp);
       else items[sp.c].length = sp.hi - sp.lo;  // carries no stress; kept for output
     }
-    std::sort(touching.begin(), touching.end(), [](const Span* a, const Span* b) { return a->at < b->at; });
+    std::sort(touching.begin(), touching.end(), [](const ClusterSpan* a, const ClusterSpan* b) { return a->at < b->at; });
     for (std::size_t k = 0; k < touching.size(); ++k) {
-      const Span& sp = *touching[k];
+      const ClusterSpan& sp = *touching[k];
       double lo = sp.lo, hi = sp.hi;
       if (k > 0) lo = std::max(lo, 0.5 * (touching[k - 1]->at + sp.at));
       if (k + 1 < touching.size()) hi = std::min(hi, 0.5 * (sp.at + touching[k + 1]->at));
