@@ -55,7 +55,12 @@ double EnergyBalance::contact_energy(const Model& m, double* slip_increment) {
 void EnergyBalance::after_step(const Model& m, const EnergyMasses& masses, double dt, double beta) {
   if (!on_) return;
   const std::size_t ng = m.gp.size(), nb = m.blocks.size(), nz = m.zones.size();
-  const bool first = !started_;
+  // A model whose arrays changed size since the last step (blocks removed by an excavation), or a
+  // stage that turns Rayleigh damping on, starts a new reference, like the first step, keeping
+  // the sums so far (below).
+  const bool resized = started_ && (r_prev_.size() != ng || rb_prev_.size() != nb || sig_prev_.size() != nz ||
+                                    f_bc_prev_.size() != ng || (beta != 0.0 && f_zone_prev_.size() != ng));
+  const bool first = !started_ || resized;
   if (first) {
     r_prev_.assign(ng, Vec2::Zero());
     f_bc_prev_ = f_bc_;
@@ -127,9 +132,14 @@ void EnergyBalance::after_step(const Model& m, const EnergyMasses& masses, doubl
   if (beta != 0.0) damping += -zone_work - strain;
   double slip = 0.0;
   const double contact = contact_energy(m, &slip);
-  if (first) {
+  if (!started_) {
     t_.kinetic_start = kinetic;
     t_.contact_start = contact;
+  } else if (resized) {
+    // The energy of what was removed leaves the accounting: the stored terms continue from
+    // their values before the change.
+    t_.kinetic_start += kinetic - t_.kinetic;
+    t_.contact_start += contact - (t_.contact + t_.contact_start);
   }
   t_.kinetic = kinetic;
   t_.contact = contact - t_.contact_start;
