@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <unordered_map>
 
+#include "framework/contact/broad_phase.hpp"
 #include "framework/geometry/polygon.hpp"
 
 namespace rockdem {
@@ -271,48 +271,13 @@ bool band_interval(const Vec2& a, const Vec2& b, const Vec2& p, const Vec2& n, c
 
 }  // namespace
 
-std::vector<std::pair<int, int>> broad_phase(const Model& m, double margin) {
-  const int nb = static_cast<int>(m.blocks.size());
-  std::vector<Box> boxes(nb);
-  double mean_size = 0.0;
-  for (int i = 0; i < nb; ++i) {
-    boxes[i] = block_box(m, m.blocks[i], margin);
-    mean_size += (boxes[i].hi - boxes[i].lo).maxCoeff();
-  }
-  std::vector<std::pair<int, int>> pairs;
-  if (nb < 2) return pairs;
-  mean_size /= nb;
-  // Cells about the mean block size: each block falls in a few cells, each cell holds a few blocks.
-  const double cell = std::max(mean_size, 1e-12);
-  std::unordered_map<std::int64_t, std::vector<int>> grid;
-  grid.reserve(static_cast<std::size_t>(nb) * 4);
-  auto key = [](std::int64_t ix, std::int64_t iy) { return (ix << 32) ^ (iy & 0xffffffff); };
-  for (int i = 0; i < nb; ++i) {
-    const auto x0 = static_cast<std::int64_t>(std::floor(boxes[i].lo.x() / cell));
-    const auto x1 = static_cast<std::int64_t>(std::floor(boxes[i].hi.x() / cell));
-    const auto y0 = static_cast<std::int64_t>(std::floor(boxes[i].lo.y() / cell));
-    const auto y1 = static_cast<std::int64_t>(std::floor(boxes[i].hi.y() / cell));
-    for (auto ix = x0; ix <= x1; ++ix)
-      for (auto iy = y0; iy <= y1; ++iy) grid[key(ix, iy)].push_back(i);
-  }
-  for (auto& [k, list] : grid) {
-    for (std::size_t a = 0; a < list.size(); ++a)
-      for (std::size_t b = a + 1; b < list.size(); ++b) {
-        const int i = std::min(list[a], list[b]), j = std::max(list[a], list[b]);
-        const Box &A = boxes[i], &B = boxes[j];
-        if (A.lo.x() <= B.hi.x() && B.lo.x() <= A.hi.x() && A.lo.y() <= B.hi.y() && B.lo.y() <= A.hi.y())
-          pairs.emplace_back(i, j);
-      }
-  }
-  std::sort(pairs.begin(), pairs.end());
-  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
-  return pairs;
-}
-
 std::size_t detect_contacts(Model& m, const DetectionSettings& s) {
-  std::vector<Contact> found;
-  found.reserve(m.contacts.items.size() + 16);
-  const auto pairs = broad_phase(m, s.distance);
+  // Buffers kept between passes (broad_phase.hpp); merge() hands the old contact list back.
+  DetectionBuffers& buffers = detection_buffers();
+  std::vector<Contact>& found = buffers.found;
+  found.clear();
+  broad_phase_pairs(m, s.distance, buffers.pairs);
+  const auto& pairs = buffers.pairs;
   // Candidate contacts of one point: one per own side that faces an edge of the other block, or
   // else one against the rounded boundary (see face_projection and corner_to_corner).
   struct Candidate {
@@ -448,36 +413,32 @@ void update_contact_geometry(Model& m) {
 void update_contact_lengths(Model& m, const DetectionSettings& s) {
   auto& items = m.contacts.items;
   const double w = s.distance;
-  // Own and facing intervals, on the tangent through each contact point.
-  struct Span {
-    std::size_t c;
-    double lo, hi;   // along the cluster tangent, absolute coordinate
-    double at;       // the contact point's own coordinate
-    bool touching;
-  };
+  // Own and facing intervals, on the tangent through each contact point (ClusterSpan).
   // Cluster by block pair and normal direction (normals of the second block's points flipped).
-  struct Cluster {
-    BlockId a, b;
-    Vec2 n;
-    std::vector<Span> spans;
-  };
-  std::vector<Cluster> clusters;
-  std::unordered_map<std::int64_t, std::vector<std::size_t>> by_pair;
+  // The clusters of a block pair are chained from the pair's entry in a flat table; spans are
+  // gathered cluster by cluster afterwards (a stable counting sort), all in buffers kept between
+  // calls (ClusterBuffers, broad_phase.hpp).
+  ClusterBuffers& cb = cluster_buffers();
+  auto& clusters = cb.clusters;
+  clusters.clear();
+  cb.spans.clear();
+  cb.pairs.reset(items.size());
   for (std::size_t i = 0; i < items.size(); ++i) {
     const Contact& c = items[i];
     const BlockId a = std::min(c.key.point_block, c.key.other_block);
     const BlockId b = std::max(c.key.point_block, c.key.other_block);
     const Vec2 n = c.key.point_block == a ? c.normal : Vec2(-c.normal);
     const std::int64_t pk = (static_cast<std::int64_t>(a) << 32) | static_cast<std::uint32_t>(b);
-    auto& list = by_pair[pk];
-    std::size_t ci = clusters.size();
-    for (std::size_t k : list)
-      if (clusters[k].n.dot(n) > 0.866) { ci = k; break; }  // within 30 degrees
-    if (ci == clusters.size()) {
-      clusters.push_back({a, b, n, {}});
-      list.push_back(ci);
+    int& head = cb.pairs.at(pk);
+    int ci = -1, last = -1;
+    for (int k = head; k >= 0; last = k, k = clusters[static_cast<std::size_t>(k)].next)
+      if (clusters[static_cast<std::size_t>(k)].n.dot(n) > 0.866) { ci = k; break; }  // within 30 degrees
+    if (ci < 0) {
+      ci = static_cast<int>(clusters.size());
+      clusters.push_back({n, -1});
+      (last < 0 ? head : clusters[static_cast<std::size_t>(last)].next) = ci;
     }
-    const Vec2 t(clusters[ci].n.y(), -clusters[ci].n.x());
+    const Vec2 t(clusters[static_cast<std::size_t>(ci)].n.y(), -clusters[static_cast<std::size_t>(ci)].n.x());
     // Own tributary: the half-edges on both sides of the point, inside the contact band.
     const Block& A = m.blocks[m.gp[c.point].block];
     const Block& B = m.blocks[c.other];
@@ -518,30 +479,39 @@ void update_contact_lengths(Model& m, const DetectionSettings& s) {
     const double base = p.dot(t);
     const bool touching = !c.response.open && c.pretouch_gap <= 0.0;
     items[i].span = any ? hi - lo : 0.0;
-    clusters[ci].spans.push_back({i, base + x0, base + std::max(x0, x1), base, touching});
+    cb.spans.push_back({ci, i, base + x0, base + std::max(x0, x1), base, touching});
   }
+  // Spans cluster by cluster, each cluster's in contact order.
+  cb.start.assign(clusters.size() + 1, 0);
+  for (const ClusterSpan& sp : cb.spans) ++cb.start[static_cast<std::size_t>(sp.cluster) + 1];
+  for (std::size_t k = 1; k < cb.start.size(); ++k) cb.start[k] += cb.start[k - 1];
+  cb.sorted.resize(cb.spans.size());
+  cb.cursor.assign(cb.start.begin(), cb.start.end() - 1);
+  for (const ClusterSpan& sp : cb.spans) cb.sorted[cb.cursor[static_cast<std::size_t>(sp.cluster)]++] = &sp;
   // Each touching contact owns its Voronoi cell among the touching contacts of both blocks along
   // the interface, clipped to its own stretch. The cells partition the overlap, and they change
   // continuously as points of one block slide past points of the other or past an edge's end
   // (a newly covered point starts with a cell of zero length, not with half its tributary).
   // Points at the same place (the coincident corners of two equal blocks stacked) share their cell:
   // each part of it goes in equal shares to those whose own stretch covers it.
-  for (Cluster& cl : clusters) {
-    std::vector<const Span*> touching;
-    for (const Span& sp : cl.spans) {
+  auto& touching = cb.touching;
+  const double tie = 1e-9 * w;
+  std::vector<double>& cuts = cb.cuts;
+  for (std::size_t cl = 0; cl < clusters.size(); ++cl) {
+    touching.clear();
+    for (std::size_t k = cb.start[cl]; k < cb.start[cl + 1]; ++k) {
+      const ClusterSpan& sp = *cb.sorted[k];
       if (sp.touching) touching.push_back(&sp);
       else items[sp.c].length = sp.hi - sp.lo;  // carries no stress; kept for output
     }
-    std::sort(touching.begin(), touching.end(), [](const Span* a, const Span* b) { return a->at < b->at; });
-    const double tie = 1e-9 * w;
-    std::vector<double> cuts;
+    std::sort(touching.begin(), touching.end(), [](const ClusterSpan* a, const ClusterSpan* b) { return a->at < b->at; });
     for (std::size_t k = 0; k < touching.size();) {
       std::size_t end = k + 1;
       while (end < touching.size() && touching[end]->at - touching[k]->at <= tie) ++end;
       const double left = k > 0 ? 0.5 * (touching[k - 1]->at + touching[k]->at) : -kInf;
       const double right = end < touching.size() ? 0.5 * (touching[end - 1]->at + touching[end]->at) : kInf;
       if (end == k + 1) {
-        const Span& sp = *touching[k];
+        const ClusterSpan& sp = *touching[k];
         items[sp.c].length = std::max(0.0, std::min(sp.hi, right) - std::max(sp.lo, left));
       } else {
         cuts.clear();
@@ -567,13 +537,15 @@ void update_contact_lengths(Model& m, const DetectionSettings& s) {
   // slid in under an edge of the other block, or whose neighbour changed owner) takes the law state
   // of the nearest established contact of the same interface and joint model, so that the mated
   // position, the stresses and the wear it starts from are the joint's, not a fresh surface's.
-  for (Cluster& cl : clusters) {
-    for (const Span& sp : cl.spans) {
+  for (std::size_t cl = 0; cl < clusters.size(); ++cl) {
+    for (std::size_t k = cb.start[cl]; k < cb.start[cl + 1]; ++k) {
+      const ClusterSpan& sp = *cb.sorted[k];
       Contact& c = items[sp.c];
       if (!c.fresh || c.pending_closure <= 0.0 || c.pretouch_gap > 0.0) continue;
       const Contact* donor = nullptr;
       double best = kInf;
-      for (const Span& o : cl.spans) {
+      for (std::size_t q = cb.start[cl]; q < cb.start[cl + 1]; ++q) {
+        const ClusterSpan& o = *cb.sorted[q];
         const Contact& d = items[o.c];
         if (d.fresh || !o.touching || d.joint != c.joint || std::abs(o.at - sp.at) >= best) continue;
         best = std::abs(o.at - sp.at);

@@ -71,7 +71,7 @@ void Engine::begin_stage(const std::string& name, const Damping& d) {
       smooth_v_[b] /= mass[b];
     }
   }
-  last_good_ = snapshot();
+  last_good_.take(m_);
 }
 
 void Engine::refresh_contacts() {
@@ -202,9 +202,13 @@ void Engine::step() {
   update_contact_geometry(m_);
   for (auto& g : m_.gp) g.f.setZero();
   applied_sum_ = 0.0;
-  zone_forces(m_, dt_, damping_.kind == Damping::Kind::rayleigh ? damping_.beta : 0.0);
+  const double beta = damping_.kind == Damping::Kind::rayleigh ? damping_.beta : 0.0;
+  zone_forces(m_, dt_, beta);
+  energy_.after_zone_forces(m_, beta);
   contact_forces();
+  energy_.before_boundary_forces(m_);
   for (auto* bc : active_) applied_sum_ += bc->forces(m_, stage_time_);
+  energy_.after_boundary_forces(m_);
   // Gravity on the physical (unscaled) mass.
   if (m_.gravity.squaredNorm() > 0.0) {
     for (auto& g : m_.gp)
@@ -234,6 +238,7 @@ void Engine::step() {
       g.v = b.vc + b.omega * perp(r);
     }
   }
+  energy_.after_step(m_, EnergyMasses{inertial_mass_, block_mass_, block_inertia_}, dt_, beta);
   m_.time += dt_;
   stage_time_ += dt_;
   ++m_.step;
@@ -360,7 +365,7 @@ void Engine::check_state() {
       throw InstabilityError(os.str());
     }
   }
-  last_good_ = snapshot();
+  if (m_.step - last_good_.step >= kGoodStateInterval) last_good_.take(m_);
 }
 
 double Engine::kinetic_energy() const {
@@ -373,16 +378,47 @@ double Engine::kinetic_energy() const {
 }
 
 ModelSnapshot Engine::snapshot() const {
-  return ModelSnapshot{m_.gp, m_.zones, m_.blocks, m_.contacts.items, m_.time, m_.step};
+  ModelSnapshot s;
+  s.take(m_);
+  return s;
 }
 
-void Engine::restore(const ModelSnapshot& s) {
-  m_.gp = s.gp;
-  m_.zones = s.zones;
-  m_.blocks = s.blocks;
-  m_.contacts.restore(std::vector<Contact>(s.contacts));
-  m_.time = s.time;
-  m_.step = s.step;
+void Engine::restore(const ModelSnapshot& s) { s.put(m_); }
+
+void ModelSnapshot::take(const Model& m) {
+  // Copy-assignment keeps each vector's storage when it is large enough.
+  gp = m.gp;
+  zones = m.zones;
+  contacts = m.contacts.items;
+  blocks.resize(m.blocks.size());
+  for (std::size_t b = 0; b < blocks.size(); ++b) {
+    const Block& B = m.blocks[b];
+    blocks[b] = BlockMotion{B.xc, B.vc, B.fc, B.theta, B.omega, B.moment, B.fixed, B.prescribed};
+  }
+  time = m.time;
+  step = m.step;
+}
+
+bool ModelSnapshot::put(Model& m) const {
+  if (blocks.size() != m.blocks.size() || gp.size() != m.gp.size() || zones.size() != m.zones.size()) return false;
+  m.gp = gp;
+  m.zones = zones;
+  for (std::size_t b = 0; b < blocks.size(); ++b) {
+    Block& B = m.blocks[b];
+    const BlockMotion& s = blocks[b];
+    B.xc = s.xc;
+    B.vc = s.vc;
+    B.fc = s.fc;
+    B.theta = s.theta;
+    B.omega = s.omega;
+    B.moment = s.moment;
+    B.fixed = s.fixed;
+    B.prescribed = s.prescribed;
+  }
+  m.contacts.restore(std::vector<Contact>(contacts));
+  m.time = time;
+  m.step = step;
+  return true;
 }
 
 }  // namespace rockdem

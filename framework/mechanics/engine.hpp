@@ -3,25 +3,42 @@
 // velocities live at half steps, positions at whole steps. One cycle: contact geometry ->
 // zone stresses -> contact forces through the joint laws -> external forces -> damping ->
 // velocities and positions. The same code runs whatever the decomposition (it never sees MPI).
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "framework/boundary/conditions.hpp"
 #include "framework/contact/detection.hpp"
+#include "framework/mechanics/energy_balance.hpp"
 #include "framework/mechanics/engine_settings.hpp"
 #include "framework/model/model.hpp"
 
 namespace rockdem {
 
-// A copy of everything that evolves, for "last good state" and restarts in memory.
+// The part of a block that changes while stepping; its geometry, name and material do not.
+struct BlockMotion {
+  Vec2 xc = Vec2::Zero(), vc = Vec2::Zero(), fc = Vec2::Zero();
+  double theta = 0.0, omega = 0.0, moment = 0.0;
+  bool fixed = false;
+  std::uint8_t prescribed = 0;
+};
+
+// A copy of everything that evolves while stepping, for the "last good state" of instability
+// reports. take() copies into the arrays the snapshot already holds, so once taken it does not
+// allocate again unless the model has grown (contacts, say), and it copies no block geometry.
 struct ModelSnapshot {
   std::vector<GridPoint> gp;
   std::vector<Zone> zones;
-  std::vector<Block> blocks;
+  std::vector<BlockMotion> blocks;
   std::vector<Contact> contacts;
   double time = 0.0;
   long step = 0;
+
+  void take(const Model& m);
+  // Puts the state back. A snapshot whose arrays no longer match the model's (blocks removed
+  // since it was taken) is not applied: returns false and leaves the model as it is.
+  bool put(Model& m) const;
 };
 
 class Engine {
@@ -46,6 +63,13 @@ class Engine {
   // Contact force exerted on a block (sum over its contacts) in the last step [N/m].
   Vec2 contact_force_on(int block) const;
   double kinetic_energy() const;
+  // The energy balance since the first call (energy_balance.hpp). The accounting costs a few
+  // passes over the gridpoints per step, so it runs only once something has asked for it: the
+  // first call starts it (a history of it is first sampled before the first step of a run).
+  const EnergyTerms& energy() const {
+    if (!energy_.tracking()) energy_.start();
+    return energy_.terms();
+  }
 
   const ModelSnapshot& last_good() const { return last_good_; }
   ModelSnapshot snapshot() const;
@@ -82,6 +106,10 @@ class Engine {
   std::vector<double> smooth_w_;                  // and spin
   static constexpr double kDampingWindow = 1000.0;  // steps
   ModelSnapshot last_good_;
+  // Steps between two copies of the last good state; the state is checked more often (every
+  // run_steps call), the copy is only kept every so many steps (docs/performance.md, measured).
+  static constexpr long kGoodStateInterval = 1000;
+  mutable EnergyBalance energy_;  // started by the first energy() call
   long steps_since_refresh_ = 0;
 };
 

@@ -32,6 +32,14 @@ double face_displacement(const Model& m, const Engine&, const HistoryTarget& t) 
 
 const std::vector<std::string> kXY{"x", "y"};
 
+// The energy balance's terms (energy_balance.hpp), in the order of `energy`'s components.
+double energy_term(const Model&, const Engine& e, const HistoryTarget& t) {
+  const EnergyTerms& b = e.energy();
+  const double terms[] = {b.kinetic, b.strain, b.contact, b.gravity_work, b.boundary_work, b.slip, b.damping, b.work_in(),
+                          b.accounted(), b.imbalance()};
+  return terms[t.component];
+}
+
 // name, unit, description, needs block, rigid only, needs face, components, reduction, measure
 const HistoryQuantityRegistrar contact_force_q{HistoryQuantity{
     "contact_force", "N/m", "sum of the contact forces on a block, x or y", true, false, false, kXY,
@@ -51,6 +59,19 @@ const HistoryQuantityRegistrar unbalanced_ratio_q{HistoryQuantity{
 const HistoryQuantityRegistrar kinetic_energy_q{HistoryQuantity{
     "kinetic_energy", "J/m", "kinetic energy of the model", false, false, false, {}, Reduction::sum,
     [](const Model&, const Engine& e, const HistoryTarget&) { return e.kinetic_energy(); }}};
+const HistoryQuantityRegistrar energy_q{HistoryQuantity{
+    "energy", "J/m",
+    "energy balance since the first sample: kinetic (whole-step, physical masses), strain (work taken by the zones), "
+    "contact (elastic energy in the contacts, change), gravity_work, boundary_work, slip (dissipated by joint slip), "
+    "damping (dissipated), work_in (gravity + boundary), accounted (stored + dissipated), imbalance (work_in - accounted)",
+    false, false, false,
+    {"kinetic", "strain", "contact", "gravity_work", "boundary_work", "slip", "damping", "work_in", "accounted",
+     "imbalance"},
+    Reduction::sum, energy_term}};
+const HistoryQuantityRegistrar energy_balance_error_q{HistoryQuantity{
+    "energy_balance_error", "",
+    "energy imbalance (work in - stored - dissipated) over the largest magnitude any term has reached", false, false,
+    false, {}, Reduction::max, [](const Model&, const Engine& e, const HistoryTarget&) { return e.energy().error; }}};
 const HistoryQuantityRegistrar time_step_q{HistoryQuantity{
     "time_step", "s", "time step", false, false, false, {}, Reduction::min,
     [](const Model&, const Engine& e, const HistoryTarget&) { return e.dt(); }}};

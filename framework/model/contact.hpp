@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "framework/core/types.hpp"
+#include "framework/model/contact_index.hpp"
 #include "framework/plugin_api/joint_law.hpp"
 
 namespace rockdem {
@@ -101,7 +102,7 @@ class ContactStore {
   void restore(std::vector<Contact>&& all);
 
  private:
-  std::unordered_map<ContactKey, std::size_t, ContactKeyHash> index_;
+  ContactIndex index_;
 };
 
 }  // namespace rockdem

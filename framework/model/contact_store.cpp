@@ -23,9 +23,9 @@ int ContactStore::model_for(int group_a, int group_b) const {
 std::size_t ContactStore::merge(std::vector<Contact>&& found) {
   std::size_t created = 0;
   for (auto& c : found) {
-    auto it = index_.find(c.key);
-    if (it != index_.end() && items[it->second].joint == c.joint) {
-      const Contact& old = items[it->second];
+    const std::ptrdiff_t at = index_.find(items, c.key);
+    if (at >= 0 && items[static_cast<std::size_t>(at)].joint == c.joint) {
+      const Contact& old = items[static_cast<std::size_t>(at)];
       c.state = old.state;
       c.response = old.response;
       c.fresh = false;
@@ -36,23 +36,20 @@ std::size_t ContactStore::merge(std::vector<Contact>&& found) {
       ++created;
     }
   }
-  items = std::move(found);
-  index_.clear();
-  index_.reserve(items.size());
-  for (std::size_t i = 0; i < items.size(); ++i) index_[items[i].key] = i;
+  // Swapped, not moved: the caller gets the old list's storage back to fill on its next pass.
+  items.swap(found);
+  index_.rebuild(items);
   return created;
 }
 
 void ContactStore::restore(std::vector<Contact>&& all) {
   items = std::move(all);
-  index_.clear();
-  index_.reserve(items.size());
-  for (std::size_t i = 0; i < items.size(); ++i) index_[items[i].key] = i;
+  index_.rebuild(items);
 }
 
 const Contact* ContactStore::find(const ContactKey& k) const {
-  auto it = index_.find(k);
-  return it == index_.end() ? nullptr : &items[it->second];
+  const std::ptrdiff_t at = index_.find(items, k);
+  return at < 0 ? nullptr : &items[static_cast<std::size_t>(at)];
 }
 
 }  // namespace rockdem

@@ -6,7 +6,7 @@
 //       damping. Reports zone-steps per second per core.
 //
 //   rockdem_bench_engine contacts [--rows N] [--width W] [--steps N] [--reps N] [--seed S]
-//                                 [--squeeze D] [--lammps DIR]
+//                                 [--squeeze D] [--lammps DIR] [--chunk N]
 //       A packed assembly of rigid convex hexagons under gravity on a fixed base: a dry-stone
 //       wall of N courses (default 50 x 12 m, about 2,700 blocks) with random block lengths and
 //       staggered open head joints (seeded, deterministic; see make_packing), each course sitting
@@ -16,6 +16,8 @@
 //       --lammps DIR writes the same packing as a LAMMPS data file (atom_style body
 //       rounded/polygon) and an input script with the same stiffness, friction, time step and
 //       step count (DIR/packing.data, DIR/in.packing); see scripts/bench/compare_lammps.sh.
+//       --chunk N runs the steps as calls of Engine::run_steps(N), as `rockdem run` does with
+//       N = 10 (each call checks the state); default: one call.
 //
 // Output: human-readable lines and one machine-readable line per repetition starting "RESULT"
 // (wall seconds and process CPU seconds of the timed loop). Timing covers Engine::run_steps only (model building, first contact detection and the stable
@@ -335,6 +337,7 @@ int bench_contacts(const Args& a) {
   const int reps = static_cast<int>(a.num("reps", 3));
   const auto seed = static_cast<std::uint64_t>(a.num("seed", 20261121));
   const double squeeze = a.num("squeeze", 2e-5);
+  const long chunk = std::max(1L, static_cast<long>(a.num("chunk", static_cast<double>(steps))));
   ContactParams cp;
   const Packing pk = make_packing(rows, width, seed, squeeze);
   std::size_t nv = 0;
@@ -391,7 +394,7 @@ int bench_contacts(const Args& a) {
     const ContactCount c0 = count_contacts(*m);
     const auto t0 = Clock::now();
     const std::clock_t cpu0 = std::clock();
-    e.run_steps(steps);
+    for (long done = 0; done < steps; done += chunk) e.run_steps(std::min(chunk, steps - done));
     const double cpu = static_cast<double>(std::clock() - cpu0) / CLOCKS_PER_SEC;
     const double sec = std::chrono::duration<double>(Clock::now() - t0).count();
     const ContactCount c1 = count_contacts(*m);

@@ -1,0 +1,158 @@
+#include "framework/mechanics/energy_balance.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace rockdem {
+
+void EnergyBalance::after_zone_forces(const Model& m, double beta) {
+  if (!on_ || beta == 0.0) return;
+  f_zone_.resize(m.gp.size());
+  for (std::size_t i = 0; i < m.gp.size(); ++i) f_zone_[i] = m.gp[i].f;
+}
+
+void EnergyBalance::before_boundary_forces(const Model& m) {
+  if (!on_) return;
+  const std::size_t n = m.gp.size();
+  f_bc_.resize(n);
+  v_old_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    f_bc_[i] = m.gp[i].f;
+    v_old_[i] = m.gp[i].v;
+  }
+  vb_old_.resize(m.blocks.size());
+  for (std::size_t b = 0; b < m.blocks.size(); ++b) {
+    const Block& B = m.blocks[b];
+    vb_old_[b] = Eigen::Vector3d(B.vc.x(), B.vc.y(), B.omega);
+  }
+}
+
+void EnergyBalance::after_boundary_forces(const Model& m) {
+  if (!on_) return;
+  for (std::size_t i = 0; i < m.gp.size(); ++i) f_bc_[i] = m.gp[i].f - f_bc_[i];
+}
+
+// Elastic energy held by the contacts, sigma_n^2/(2 kn) + tau^2/(2 ks) per unit area times the
+// length, with the law's present tangent stiffnesses: exact for linear laws (coulomb_slip,
+// mohr_coulomb); for laws whose normal stiffness grows with closure (barton_bandis) it counts
+// the energy as if the whole stress had been reached at the present stiffness, which
+// underestimates what is stored. Also the energy the laws dissipated in this step's update.
+double EnergyBalance::contact_energy(const Model& m, double* slip_increment) {
+  double e = 0.0, slip = 0.0;
+  for (const Contact& c : m.contacts.items) {
+    if (c.response.open || c.pretouch_gap > 0.0) continue;
+    const JointModel& law = *m.contacts.models[static_cast<std::size_t>(c.joint)];
+    const double kn = c.response.kn > 0.0 ? c.response.kn : law.initial_kn();
+    const double ks = c.response.ks > 0.0 ? c.response.ks : law.initial_ks();
+    const double sn = c.response.sigma_n, tau = c.response.tau;
+    e += c.length * ((kn > 0.0 ? sn * sn / (2.0 * kn) : 0.0) + (ks > 0.0 ? tau * tau / (2.0 * ks) : 0.0));
+    slip += c.length * c.response.dissipated;
+  }
+  if (slip_increment) *slip_increment = slip;
+  return e;
+}
+
+void EnergyBalance::after_step(const Model& m, const EnergyMasses& masses, double dt, double beta) {
+  if (!on_) return;
+  const std::size_t ng = m.gp.size(), nb = m.blocks.size(), nz = m.zones.size();
+  // A model whose arrays changed size since the last step (blocks removed by an excavation), or a
+  // stage that turns Rayleigh damping on, starts a new reference, like the first step, keeping
+  // the sums so far (below).
+  const bool resized = started_ && (r_prev_.size() != ng || rb_prev_.size() != nb || sig_prev_.size() != nz ||
+                                    f_bc_prev_.size() != ng || (beta != 0.0 && f_zone_prev_.size() != ng));
+  const bool first = !started_ || resized;
+  if (first) {
+    r_prev_.assign(ng, Vec2::Zero());
+    f_bc_prev_ = f_bc_;
+    rb_prev_.assign(nb, Eigen::Vector3d::Zero());
+    sig_prev_.resize(nz);
+    eps_prev_.resize(nz);
+    for (std::size_t z = 0; z < nz; ++z) {
+      sig_prev_[z] = m.zones[z].stress;
+      eps_prev_[z] = m.zones[z].strain;
+    }
+    if (beta != 0.0) f_zone_prev_ = f_zone_;
+    dt_prev_ = dt;
+  }
+  // On the first step only the reference is taken: the trapezoids need the forces of the step
+  // before, which were not kept.
+  const double w = first ? 0.0 : 1.0;
+  double kinetic = 0.0, gravity = 0.0, boundary = 0.0, damping = 0.0, zone_work = 0.0;
+  for (std::size_t i = 0; i < ng; ++i) {
+    const GridPoint& g = m.gp[i];
+    const Vec2 dx = v_old_[i] * dt_prev_;  // x(n) - x(n-1)
+    boundary += w * 0.5 * (f_bc_prev_[i] + f_bc_[i]).dot(dx);
+    f_bc_prev_[i] = f_bc_[i];
+    if (beta != 0.0) {
+      zone_work += w * 0.5 * (f_zone_prev_[i] + f_zone_[i]).dot(dx);
+      f_zone_prev_[i] = f_zone_[i];
+    }
+    if (m.blocks[g.block].rigid) continue;
+    kinetic += 0.5 * g.mass * v_old_[i].dot(g.v);
+    gravity += w * g.mass * m.gravity.dot(dx);
+    // The force the applied ones do not explain: damping on a free component, the reaction of
+    // a fixed or prescribed one.
+    const Vec2 r = masses.gp[i] * (g.v - v_old_[i]) / dt - g.f;
+    for (int d = 0; d < 2; ++d) {
+      const double work = w * 0.5 * (r_prev_[i][d] + r[d]) * dx[d];
+      if (d == 0 ? g.fixed_x : g.fixed_y) boundary += work;
+      else damping -= work;
+    }
+    r_prev_[i] = r;
+  }
+  for (std::size_t b = 0; b < nb; ++b) {
+    const Block& B = m.blocks[b];
+    if (!B.rigid || B.fixed) continue;
+    const Eigen::Vector3d vo = vb_old_[b], v(B.vc.x(), B.vc.y(), B.omega);
+    const Eigen::Vector3d dx = vo * dt_prev_;
+    kinetic += 0.5 * B.mass * vo.head<2>().dot(v.head<2>()) + 0.5 * B.inertia * vo[2] * v[2];
+    gravity += w * B.mass * m.gravity.dot(dx.head<2>());
+    const Eigen::Vector3d inertial(masses.block[b], masses.block[b], masses.inertia[b]);
+    const Eigen::Vector3d applied(B.fc.x(), B.fc.y(), B.moment);
+    static constexpr std::uint8_t kBit[3] = {Block::kDriveX, Block::kDriveY, Block::kDriveSpin};
+    for (int d = 0; d < 3; ++d) {
+      if (inertial[d] <= 0.0) continue;
+      const double r = inertial[d] * (v[d] - vo[d]) / dt - applied[d];
+      const double work = w * 0.5 * (rb_prev_[b][d] + r) * dx[d];
+      if (B.prescribed & kBit[d]) boundary += work;
+      else damping -= work;
+      rb_prev_[b][d] = r;
+    }
+  }
+  double strain = 0.0;
+  for (std::size_t z = 0; z < nz; ++z) {
+    const Zone& Z = m.zones[z];
+    strain += w * 0.5 * (sig_prev_[z] + Z.stress).dot(Z.strain - eps_prev_[z]) * Z.area;
+    sig_prev_[z] = Z.stress;
+    eps_prev_[z] = Z.strain;
+  }
+  // Stiffness-proportional Rayleigh damping acts through the zone forces but not the zone
+  // stresses: the zone forces' work that the stresses did not take is what it dissipated. The
+  // zone forces do work -W on the gridpoints when the zones take up W.
+  if (beta != 0.0) damping += -zone_work - strain;
+  double slip = 0.0;
+  const double contact = contact_energy(m, &slip);
+  if (!started_) {
+    t_.kinetic_start = kinetic;
+    t_.contact_start = contact;
+  } else if (resized) {
+    // The energy of what was removed leaves the accounting: the stored terms continue from
+    // their values before the change.
+    t_.kinetic_start += kinetic - t_.kinetic;
+    t_.contact_start += contact - (t_.contact + t_.contact_start);
+  }
+  t_.kinetic = kinetic;
+  t_.contact = contact - t_.contact_start;
+  t_.strain += strain;
+  t_.gravity_work += gravity;
+  t_.boundary_work += boundary;
+  t_.damping += damping;
+  t_.slip += w * slip;
+  scale_ = std::max({scale_, std::abs(t_.gravity_work), std::abs(t_.boundary_work), std::abs(t_.kinetic - t_.kinetic_start),
+                     std::abs(t_.strain), std::abs(t_.contact), std::abs(t_.slip), std::abs(t_.damping)});
+  t_.error = scale_ > 0.0 ? t_.imbalance() / scale_ : 0.0;
+  dt_prev_ = dt;
+  started_ = true;
+}
+
+}  // namespace rockdem
