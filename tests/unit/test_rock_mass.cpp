@@ -11,6 +11,8 @@
 #include "framework/core/error.hpp"
 #include "framework/geometry/rock_mass.hpp"
 #include "framework/io/case.hpp"
+#include "framework/io/case_builder.hpp"
+#include "framework/io/rock_mass_spec.hpp"
 
 using namespace rockdem;
 
@@ -357,4 +359,56 @@ TEST(RockMass, CaseBuildsBlocksWithGroupsAndLabels) {
   }
   EXPECT_GE(checked, 5);  // steep, flat, flat bridge, fault, cut
   EXPECT_EQ(cs.model_for(0, 0, -1), model("rock"));
+}
+
+// Deformable rock-mass blocks: the mesh subdivides every polygon edge, and each boundary edge of
+// the mesh carries the label of the polygon edge it lies on (checked geometrically: the edge's
+// midpoint lies on a polygon edge of the generated block with that label).
+TEST(RockMass, DeformableBlocksCarryLabelsOnEveryMeshEdge) {
+  RockMassSpec spec;
+  spec.geometry = jointed_square();
+  spec.rigid = false;
+  spec.material = "rock";
+  spec.zone_size = 0.5;
+  spec.where = "test rock mass";
+  RockMass rm;
+  const std::vector<BlockSpec> blocks = rock_mass_blocks(spec, &rm);
+  CaseSpec c;
+  c.file = "deformable rock mass";
+  c.materials.push_back({"rock", "elastic", {{"density", {std::string("2650 kg/m3"), "t"}},
+                                             {"bulk", {std::string("20 GPa"), "t"}},
+                                             {"shear", {std::string("12 GPa"), "t"}}}, "t", "t"});
+  c.blocks = blocks;
+  StageInput st;
+  st.stage.name = "s";
+  c.stages.push_back(st);
+  const Case built = build_case(c);
+  const Model& m = built.model;
+  ASSERT_EQ(m.blocks.size(), rm.blocks.size());
+  std::size_t mesh_edges = 0;
+  for (std::size_t i = 0; i < m.blocks.size(); ++i) {
+    const Block& b = m.blocks[i];
+    const RockMassBlock& g = rm.blocks[i];
+    ASSERT_EQ(b.edge_joint.size(), b.boundary.size());
+    EXPECT_GT(b.boundary.size(), g.polygon.size() - 1);
+    for (std::size_t e = 0; e < b.boundary.size(); ++e) {
+      const Vec2 mid = 0.5 * (m.gp[static_cast<std::size_t>(b.boundary[e])].x0 +
+                              m.gp[static_cast<std::size_t>(b.boundary[(e + 1) % b.boundary.size()])].x0);
+      bool on = false;
+      for (std::size_t k = 0; k < g.polygon.size() && !on; ++k)
+        if (distance_to_segment(mid, g.polygon[k], g.polygon[(k + 1) % g.polygon.size()]) < 1e-9) {
+          on = true;
+          const int label = b.edge_joint[e];
+          if (g.edges[k].kind == EdgeKind::domain) {
+            EXPECT_EQ(label, -1);
+          } else {
+            ASSERT_GE(label, 0);
+            EXPECT_EQ(m.contacts.edge_labels[static_cast<std::size_t>(label)].bridge, g.edges[k].kind != EdgeKind::joint);
+          }
+        }
+      EXPECT_TRUE(on) << "mesh edge " << e << " of block " << b.name << " is on no polygon edge";
+      ++mesh_edges;
+    }
+  }
+  std::cout << "mesh boundary edges checked: " << mesh_edges << "\n";
 }
