@@ -102,6 +102,11 @@ class Cutter {
   bool split_one_face();
   bool merge_one_sliver(std::set<const void*>& stuck);
   EdgeTag tag(Halfedge e) const;
+  // A vertex's coordinates in double, remembered: the sliver loop measures every face again after
+  // each merge, and converting exact coordinates is costly. It only removes vertices, so an
+  // entry never goes stale while the loop runs (the cache is cleared around it).
+  Vec2 xy(Arr::Vertex_const_handle v);
+  std::unordered_map<const void*, Vec2> xy_;
   RockMass output() const;
 
   const RockMassInput& in_;
@@ -439,6 +444,12 @@ bool Cutter::split_one_face() {
   return false;
 }
 
+Vec2 Cutter::xy(Arr::Vertex_const_handle v) {
+  auto [it, added] = xy_.try_emplace(&*v);
+  if (added) it->second = approx(v->point());
+  return it->second;
+}
+
 struct FaceStats {
   double area = 0.0, perimeter = 0.0;
   FaceInfo info;
@@ -463,8 +474,8 @@ bool Cutter::merge_one_sliver(std::set<const void*>& stuck) {
     auto h = c;
     st.lowest = h->source()->point();
     do {
-      p.push_back(approx(h->source()->point()));
-      st.perimeter += (approx(h->target()->point()) - p.back()).norm();
+      p.push_back(xy(h->source()));
+      st.perimeter += (xy(h->target()) - p.back()).norm();
       if (CGAL::compare_xy(h->source()->point(), st.lowest) == CGAL::SMALLER) st.lowest = h->source()->point();
     } while (++h != c);
     st.area = signed_area(p);
@@ -488,7 +499,7 @@ bool Cutter::merge_one_sliver(std::set<const void*>& stuck) {
     const FaceStats& gs = stats[&*g];
     if (gs.info.opening >= 0 || gs.info.region != stats[best].info.region) continue;
     auto& [length, lowest] = shared.try_emplace(&*g, 0.0, gs.lowest).first->second;
-    length += (approx(h->target()->point()) - approx(h->source()->point())).norm();
+    length += (xy(h->target()) - xy(h->source())).norm();
   } while (++h != c);
   if (shared.empty()) {
     stuck.insert(best);
@@ -590,7 +601,9 @@ RockMass Cutter::run() {
   // merging can make a face with a hole again, so splitting runs once more after it.
   while (split_one_face()) {}
   std::set<const void*> stuck;
+  xy_.clear();
   while (merge_one_sliver(stuck)) remove_antennas();
+  xy_.clear();
   while (split_one_face()) {}
   return output();
 }
