@@ -100,7 +100,7 @@ class Cutter {
   void remove_antennas();
   void check_sets_cut() const;
   bool split_one_face();
-  bool merge_one_sliver(std::set<const void*>& stuck);
+  bool merge_sliver_round(std::set<const void*>& stuck);
   EdgeTag tag(Halfedge e) const;
   // A vertex's coordinates in double, remembered: the sliver loop measures every face again after
   // each merge, and converting exact coordinates is costly. It only removes vertices, so an
@@ -456,16 +456,18 @@ struct FaceStats {
   Point lowest;  // lowest (x, then y) vertex
 };
 
-// Merges the smallest sliver that has an eligible neighbour (same region, not an opening) into
-// the neighbour it shares the longest boundary with. `stuck` holds slivers with none.
-bool Cutter::merge_one_sliver(std::set<const void*>& stuck) {
+// One round of sliver merging. Slivers are taken smallest first (ties: lowest vertex first); each
+// is merged into the neighbour of the same region (not an opening) with which it shares the
+// longest boundary, by removing the edges between them. A sliver next to a face already merged
+// in this round waits for the next round, when that face has been measured again, so the result
+// is that of merging one smallest sliver at a time. `stuck` holds slivers with no eligible
+// neighbour. Returns whether anything changed.
+bool Cutter::merge_sliver_round(std::set<const void*>& stuck) {
   double min_spacing = std::numeric_limits<double>::infinity();
   for (const auto& s : in_.joint_sets) min_spacing = std::min(min_spacing, s.spacing);
   const double min_area = std::isfinite(min_spacing) ? in_.sliver.area_fraction * min_spacing * min_spacing : 0.0;
   std::unordered_map<const void*, FaceStats> stats;
-  const void* best = nullptr;
-  double best_area = std::numeric_limits<double>::infinity();
-  Face best_face;
+  std::vector<std::pair<const void*, Arr::Face_handle>> slivers;
   for (auto f = arr_.faces_begin(); f != arr_.faces_end(); ++f) {
     if (f->is_unbounded()) continue;
     FaceStats st;
@@ -483,47 +485,58 @@ bool Cutter::merge_one_sliver(std::set<const void*>& stuck) {
     stats[&*f] = st;
     if (st.info.opening >= 0 || stuck.count(&*f)) continue;
     const double roundness = 4.0 * std::numbers::pi * st.area / (st.perimeter * st.perimeter);
-    if ((st.area < min_area || roundness < in_.sliver.roundness) && st.area < best_area) {
-      best = &*f;
-      best_area = st.area;
-      best_face = f;
-    }
+    if (st.area < min_area || roundness < in_.sliver.roundness) slivers.emplace_back(&*f, f);
   }
-  if (!best) return false;
-  std::map<const void*, std::pair<double, Point>> shared;  // neighbour: shared length, its lowest vertex
-  auto c = best_face->outer_ccb();
-  auto h = c;
-  do {
-    const Face g = h->twin()->face();
-    if (g->is_unbounded()) continue;
-    const FaceStats& gs = stats[&*g];
-    if (gs.info.opening >= 0 || gs.info.region != stats[best].info.region) continue;
-    auto& [length, lowest] = shared.try_emplace(&*g, 0.0, gs.lowest).first->second;
-    length += (xy(h->target()) - xy(h->source())).norm();
-  } while (++h != c);
-  if (shared.empty()) {
-    stuck.insert(best);
-    return true;
-  }
+  std::sort(slivers.begin(), slivers.end(), [&](const auto& x, const auto& y) {
+    const FaceStats &sx = stats[x.first], &sy = stats[y.first];
+    if (sx.area != sy.area) return sx.area < sy.area;
+    return CGAL::compare_xy(sx.lowest, sy.lowest) == CGAL::SMALLER;
+  });
   // Equal shared lengths (to 1e-9 relative) go to the neighbour with the lowest (x, then y)
   // vertex, so that the choice does not depend on where faces sit in memory.
   const auto better = [](const std::pair<double, Point>& x, const std::pair<double, Point>& y) {
     if (std::abs(x.first - y.first) > 1e-9 * std::max(x.first, y.first)) return x.first > y.first;
     return CGAL::compare_xy(x.second, y.second) == CGAL::SMALLER;
   };
-  auto pick = shared.begin();
-  for (auto it = shared.begin(); it != shared.end(); ++it)
-    if (better(it->second, pick->second)) pick = it;
-  const void* neighbour = pick->first;
-  std::vector<Arr::Halfedge_handle> drop;
-  for (auto e = arr_.edges_begin(); e != arr_.edges_end(); ++e) {
-    const void* a = &*e->face();
-    const void* b = &*e->twin()->face();
-    if ((a == best && b == neighbour) || (a == neighbour && b == best)) drop.push_back(e);
+  std::set<const void*> touched;
+  bool changed = false;
+  for (const auto& [key, face] : slivers) {
+    if (touched.count(key)) continue;
+    std::map<const void*, std::pair<double, Point>> shared;  // neighbour: shared length, its lowest vertex
+    bool wait = false;
+    auto c = face->outer_ccb();
+    auto h = c;
+    do {
+      const Face g = h->twin()->face();
+      if (g->is_unbounded()) continue;
+      if (touched.count(&*g)) wait = true;
+      const FaceStats& gs = stats[&*g];
+      if (gs.info.opening >= 0 || gs.info.region != stats[key].info.region) continue;
+      auto& [length, lowest] = shared.try_emplace(&*g, 0.0, gs.lowest).first->second;
+      length += (xy(h->target()) - xy(h->source())).norm();
+    } while (++h != c);
+    if (wait) continue;
+    changed = true;
+    if (shared.empty()) {
+      stuck.insert(key);
+      continue;
+    }
+    auto pick = shared.begin();
+    for (auto it = shared.begin(); it != shared.end(); ++it)
+      if (better(it->second, pick->second)) pick = it;
+    const void* neighbour = pick->first;
+    std::vector<Arr::Halfedge_handle> drop;
+    auto d = face->outer_ccb();
+    auto e = d;
+    do
+      if (&*e->twin()->face() == neighbour) drop.push_back(e);
+    while (++e != d);
+    touched.insert(key);
+    touched.insert(neighbour);
+    for (auto x : drop) arr_.remove_edge(x);
+    ++slivers_merged_;
   }
-  for (auto e : drop) arr_.remove_edge(e);
-  ++slivers_merged_;
-  return true;
+  return changed;
 }
 
 // The edge's label, by priority: the domain outline, a joint trace (lowest source first), a
@@ -602,7 +615,7 @@ RockMass Cutter::run() {
   while (split_one_face()) {}
   std::set<const void*> stuck;
   xy_.clear();
-  while (merge_one_sliver(stuck)) remove_antennas();
+  while (merge_sliver_round(stuck)) remove_antennas();
   xy_.clear();
   while (split_one_face()) {}
   return output();

@@ -415,3 +415,29 @@ TEST(RockMass, DeformableBlocksCarryLabelsOnEveryMeshEdge) {
   }
   std::cout << "mesh boundary edges checked: " << mesh_edges << "\n";
 }
+
+// A horseshoe (semicircular arch by default) is one block of area w h + n R^2 sin(pi/n) / 2,
+// the walls' rectangle plus the n-sided fan of the arch of radius R = w/2.
+TEST(RockMass, HorseshoeOpeningIsOneBlockOfItsArea) {
+  RockMassInput in = square(10, "horseshoe domain");
+  in.joint_sets.push_back(set("v", 80, 0.9, {0.2, 0}));
+  OpeningInput o;
+  o.name = "tunnel";
+  o.shape = OpeningInput::Shape::horseshoe;
+  o.centre = {5, 2};
+  o.width = 4;
+  o.wall_height = 2;
+  o.segments = 16;
+  o.where = "horseshoe";
+  in.openings.push_back(o);
+  const RockMass rm = generate_rock_mass(in);
+  const double n = 16, w = 4, h = 2, r = w / 2;
+  int found = 0;
+  for (const auto& b : rm.blocks)
+    if (b.opening == 0) {
+      ++found;
+      EXPECT_NEAR(signed_area(b.polygon), w * h + 0.5 * n * r * r * std::sin(std::numbers::pi / n), 1e-12);
+    }
+  EXPECT_EQ(found, 1);
+  EXPECT_NEAR(total_area(rm), 100.0, 1e-12 * 100.0);
+}
