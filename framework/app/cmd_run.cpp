@@ -9,6 +9,7 @@
 #include "framework/simulation/run_case.hpp"
 #include "framework/core/error.hpp"
 #include "framework/core/params.hpp"
+#include "framework/io/block_inspection.hpp"
 #include "framework/lab/direct_shear_specimen.hpp"
 #include "framework/lab/lab_case.hpp"
 #include "rockdem_default_case.hpp"
@@ -44,7 +45,11 @@ const CommandRegistrar reg{Command{
       sub.add_option("--stages", *nstages, "laboratory-test cases: run only the first n test stages")->check(CLI::PositiveNumber);
       sub.add_option("--write-case", *write_case,
                      "laboratory-test cases: write the generated DEM case file (TOML) here and stop");
-      return [file, out, use_default, quiet, restart, velocity, mass_dt, nstages, write_case]() -> int {
+      auto write_blocks = std::make_shared<std::string>();
+      sub.add_option("--write-blocks", *write_blocks,
+                     "build the model, write its blocks for inspection to this folder (blocks.vtu, traces.vtu, "
+                     "blocks.csv) and stop without running");
+      return [file, out, use_default, quiet, restart, velocity, mass_dt, nstages, write_case, write_blocks]() -> int {
         if (file->empty() && !*use_default) throw InputError("rockdem run: give a case file, or --default for the built-in case");
         const bool lab = !*use_default && fs::exists(*file) && is_lab_test_file(*file);
         if (!lab && (!velocity->empty() || !mass_dt->empty() || *nstages > 0 || !write_case->empty()))
@@ -69,6 +74,11 @@ const CommandRegistrar reg{Command{
         } else {
           c = *use_default ? load_case_text(kDefaultCaseText, "built-in default case (cases/direct_shear/test09_coulomb.toml)", ".")
                            : load_case(*file);
+        }
+        if (!write_blocks->empty()) {
+          const std::string summary = write_blocks_for_inspection(c, lab || *use_default ? "" : *file, *write_blocks);
+          if (!*quiet) std::cout << summary << "\n";
+          return 0;
         }
         const std::string stem = *use_default ? "default" : fs::path(*file).stem().string();
         const fs::path dir = out->empty() ? fs::path("rockdem-output") / stem : fs::path(*out);

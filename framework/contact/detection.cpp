@@ -341,7 +341,7 @@ std::size_t detect_contacts(Model& m, const DetectionSettings& s) {
         c.s = pr.s;
         c.normal = pr.normal;
         c.overlap = -pr.dist;
-        c.joint = m.contacts.model_for(A.group, B.group);
+        c.joint = m.contacts.model_for(A.group, B.group, B.edge_label(pr.edge));
         if (old) c.pretouch_gap = old->pretouch_gap;
         else c.pretouch_gap = std::max(0.0, pr.dist);  // not yet touching: the law starts when it closes
         c.pending_closure = old ? old->pending_closure : std::max(0.0, -pr.dist);

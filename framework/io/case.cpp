@@ -6,6 +6,7 @@
 #include "framework/core/names.hpp"
 #include "framework/io/case_builder.hpp"
 #include "framework/io/case_reader.hpp"
+#include "framework/io/rock_mass_reader.hpp"
 
 namespace rockdem {
 namespace {
@@ -23,6 +24,8 @@ Case build(const toml::table& root, const CaseReader& r) {
   for (const auto* t : r.tables(root, "materials")) b.add_material(r.material(*t));
   for (const auto* t : r.tables(root, "joints")) b.add_joint(r.joint(*t));
   for (const auto* t : r.tables(root, "blocks")) b.add_block(r.block(*t));
+  if (const auto* t = root["rock_mass"].as_table())
+    for (const auto& s : rock_mass_blocks(read_rock_mass(*t, r.file()))) b.add_block(s);
   b.finish_blocks();
   if (const auto* t = root["in_situ"].as_table()) b.in_situ(r.in_situ(*t));
   for (const auto* t : r.tables(root, "boundary")) b.add_boundary(r.boundary(*t));

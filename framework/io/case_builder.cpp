@@ -9,6 +9,7 @@
 #include "framework/core/names.hpp"
 #include "framework/core/units.hpp"
 #include "framework/geometry/mesh.hpp"
+#include "framework/geometry/rock_mass.hpp"
 #include "framework/mechanics/zones.hpp"
 #include "framework/plugin_api/rock_material.hpp"
 
@@ -97,13 +98,39 @@ void CaseBuilder::add_block(const BlockSpec& s) {
     throw InputError(s.where + ": a block named '" + s.name + "' already exists");
   const int group = group_index(s.group.empty() ? s.name : s.group);
   const Polygon shape = block_shape(s);
+  std::vector<int> corners;
   if (s.rigid) {
     add_rigid_block(m, shape, s.density, s.name, group);
+    for (std::size_t i = 0; i < shape.size(); ++i) corners.push_back(static_cast<int>(i));
   } else {
     const int material = material_index(s);  // named before the mesh is made, as mistakes go
-    add_deformable_block(m, block_mesh(s, shape), material, s.name, group);
+    const TriMesh mesh = block_mesh(s, shape);
+    add_deformable_block(m, mesh, material, s.name, group);
+    corners = mesh.corners;
   }
+  if (!s.edge_labels.empty()) label_edges(s, shape, corners);
   c_.block_names.push_back(s.name);
+}
+
+// Rock-mass edge labels onto the last block's boundary loop, each label once in the model's table.
+void CaseBuilder::label_edges(const BlockSpec& s, const Polygon& shape, const std::vector<int>& corners) {
+  auto& table = c_.model.contacts.edge_labels;
+  std::vector<int> labels;
+  for (const auto& l : s.edge_labels) {
+    if (!l) {
+      labels.push_back(-1);
+      continue;
+    }
+    auto it = std::find(table.begin(), table.end(), *l);
+    if (it == table.end()) it = table.insert(table.end(), *l);
+    labels.push_back(static_cast<int>(it - table.begin()));
+    if (!l->joint.empty()) edge_joint_names_.insert(l->joint);
+  }
+  if (labels.size() != shape.size())
+    throw InputError(s.where + ": " + std::to_string(labels.size()) + " edge labels for " + std::to_string(shape.size()) +
+                     " polygon edges");
+  Block& b = c_.model.blocks.back();
+  b.edge_joint = loop_edge_labels(labels, corners, b.boundary.size(), signed_area(shape) < 0.0);
 }
 
 // Overlapping blocks at the start are an input error (touching along an edge is fine). Only
@@ -133,8 +160,29 @@ void CaseBuilder::assign_joint_groups() {
       throw InputError(c_.file + ": joint '" + contacts.model_names[j] + "' names a block group '" +
                        (ga == groups_.end() ? a : b) + "' that no block has; groups: " + join_keys(groups_) +
                        " (or \"*\" for any)");
-    contacts.assignments.push_back({any_a ? -1 : ga->second, any_b ? -1 : gb->second, static_cast<int>(j)});
+    contacts.assignments.push_back({any_a ? -1 : ga->second, any_b ? -1 : gb->second, static_cast<int>(j),
+                                    joint_labels(joints_[j])});
   }
+}
+
+// The edge labels a [[joints]] entry with joint_sets or bridges acts at (none: a group entry).
+std::vector<int> CaseBuilder::joint_labels(const JointSpec& s) const {
+  std::vector<int> labels;
+  if (s.joint_sets.empty() && !s.bridges) return labels;
+  for (const auto& name : s.joint_sets)
+    if (!edge_joint_names_.count(name))
+      throw InputError(s.joint_sets_where + ": joint '" + s.name + "' names joint set '" + name +
+                       "' that no block edge lies on; joint sets and named joints of the rock mass: " +
+                       (edge_joint_names_.empty() ? "(none: add [rock_mass] with joint sets)" : join_names(edge_joint_names_)));
+  const auto& table = c_.model.contacts.edge_labels;
+  for (std::size_t i = 0; i < table.size(); ++i) {
+    const bool named = s.joint_sets.empty() ||
+                       std::find(s.joint_sets.begin(), s.joint_sets.end(), table[i].joint) != s.joint_sets.end();
+    if (named && table[i].bridge == s.bridges) labels.push_back(static_cast<int>(i));
+  }
+  // An entry whose labels no edge has would otherwise act as a group entry everywhere.
+  if (labels.empty()) labels.push_back(-2);
+  return labels;
 }
 
 void CaseBuilder::finish_blocks() {

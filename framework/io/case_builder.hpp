@@ -50,6 +50,8 @@ class CaseBuilder {
   int group_index(const std::string& group);
   int material_index(const BlockSpec& s) const;
   void check_overlaps() const;
+  void label_edges(const BlockSpec& s, const Polygon& shape, const std::vector<int>& corners);
+  std::vector<int> joint_labels(const JointSpec& s) const;
   void assign_joint_groups();
   std::string stage_list() const;
 
@@ -65,6 +67,7 @@ class CaseBuilder {
     std::string where;
   };
   std::vector<NamedCondition> named_conditions_;
+  std::set<std::string> edge_joint_names_;  // joint sets and named joints that block edges lie on
 };
 
 // A whole case from specs made in code.

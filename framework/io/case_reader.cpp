@@ -410,10 +410,10 @@ void read_test_stages(const Reader& r, const toml::table& t, const std::string& 
 
 std::string CaseReader::top_level(const toml::table& root) const {
   const Reader r{file_, base_dir_};
-  r.check_keys(root, "case", {"title", "model", "time", "materials", "joints", "blocks", "boundary", "stages",
-                               "histories", "direct_shear", "output", "in_situ"});
+  r.check_keys(root, "case", {"title", "model", "time", "materials", "joints", "blocks", "rock_mass", "boundary",
+                               "stages", "histories", "direct_shear", "output", "in_situ"});
   std::string title = r.str(root, "title", "case", std::string("untitled"));
-  for (const char* key : {"model", "time", "direct_shear", "output", "in_situ"})
+  for (const char* key : {"model", "time", "rock_mass", "direct_shear", "output", "in_situ"})
     if (const toml::node* n = root.get(key); n && !n->is_table())
       throw InputError(r.at(*n, key) + ": expected a table, written [" + std::string(key) + "]");
   return title;
@@ -471,12 +471,21 @@ JointSpec CaseReader::joint(const toml::table& t) const {
   const std::string path = "joints." + s.name;
   s.law = r.str(t, "law", path);
   const auto* between = r.array(t, "between");
-  if (!between || between->size() != 2)
-    throw InputError(r.at_table(t, path) + ": 'between' must name two block groups, e.g. between = [\"rock\", \"rock\"]");
+  // Rock-mass edges: joint_sets and bridges (then 'between' defaults to any groups).
+  if (const auto* sets = r.array(t, "joint_sets")) {
+    s.joint_sets_where = r.at(*sets, path + ".joint_sets");
+    for (const auto& e : *sets) s.joint_sets.push_back(r.str(e, path + ".joint_sets"));
+    if (s.joint_sets.empty()) throw InputError(s.joint_sets_where + ": name at least one joint set or named joint");
+  }
+  s.bridges = r.boolean(t, "bridges", path, false);
+  const bool by_edge = !s.joint_sets.empty() || s.bridges;
+  if ((!between && !by_edge) || (between && between->size() != 2))
+    throw InputError(r.at_table(t, path) + ": 'between' must name two block groups, e.g. between = [\"rock\", \"rock\"]"
+                     " (or give joint_sets = [...] and/or bridges = true for rock-mass joints)");
   s.effects = read_effects(r, t, path);
-  s.params = raw_values(t, r.file, path, {"name", "law", "between", "effects"});
+  s.params = raw_values(t, r.file, path, {"name", "law", "between", "effects", "joint_sets", "bridges"});
   s.law_where = r.at(*t.get("law"), path + ".law");
-  s.between = {r.str(*between->get(0), path + ".between"), r.str(*between->get(1), path + ".between")};
+  if (between) s.between = {r.str(*between->get(0), path + ".between"), r.str(*between->get(1), path + ".between")};
   return s;
 }
 

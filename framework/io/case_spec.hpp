@@ -18,6 +18,7 @@
 #include "framework/core/params.hpp"
 #include "framework/geometry/polygon.hpp"
 #include "framework/io/case_data.hpp"
+#include "framework/model/contact.hpp"
 #include "framework/plugin_api/joint_law.hpp"
 
 namespace rockdem {
@@ -43,10 +44,16 @@ struct MaterialSpec {
   std::string where, model_where;
 };
 
-// [[joints]]: a joint law with effects, acting between two block groups ("*": any).
+// [[joints]]: a joint law with effects, acting between two block groups ("*": any); with
+// joint_sets and/or bridges, only at edges of rock-mass blocks with those labels (EdgeLabel):
+// the traces of the named sets and joints, or (bridges = true) their rock bridges, or with no
+// joint_sets every bridge and glued cut. Such an assignment wins over the group ones.
 struct JointSpec {
   std::string name, law;
-  std::array<std::string, 2> between;
+  std::array<std::string, 2> between{"*", "*"};
+  std::vector<std::string> joint_sets;
+  bool bridges = false;
+  std::string joint_sets_where;
   RawValues params;
   std::vector<EffectSpec> effects;
   std::string law_where;
@@ -67,6 +74,9 @@ struct BlockSpec {
   std::optional<std::array<int, 2>> zones;  // rectangles: nx, ny zones; else `zone_size`
   double zone_size = 0.0;                   // [m]
   Mesh mesh = Mesh::structured;
+  // Per polygon edge i (polygon[i] to polygon[i + 1]): what it lies on (rock-mass blocks), or
+  // nothing; empty for hand-written blocks.
+  std::vector<std::optional<EdgeLabel>> edge_labels;
   std::string where, shape_where, material_where, zones_where, mesh_where;
 };
 

@@ -124,10 +124,12 @@ void write_block_names(hid_t grp, const std::vector<Block>& blocks, const std::s
 
 // Boundary loops and rest offsets are ragged: flat arrays plus per-block counts.
 void write_block_loops(hid_t grp, const std::vector<Block>& blocks, const std::string& f) {
-  std::vector<i32> boundary, boundary_count, rest_count;
+  std::vector<i32> boundary, boundary_count, rest_count, edge_joint;
   std::vector<double> rest;
   for (const Block& bl : blocks) {
     boundary.insert(boundary.end(), bl.boundary.begin(), bl.boundary.end());
+    // Edge labels (rock-mass joint sets) run along the boundary loop; -1 for unlabelled blocks.
+    for (std::size_t e = 0; e < bl.boundary.size(); ++e) edge_joint.push_back(bl.edge_label(static_cast<int>(e)));
     boundary_count.push_back(static_cast<i32>(bl.boundary.size()));
     for (const Vec2& r : bl.rest_offsets) rest.insert(rest.end(), {r.x(), r.y()});
     rest_count.push_back(static_cast<i32>(bl.rest_offsets.size()));
@@ -135,6 +137,7 @@ void write_block_loops(hid_t grp, const std::vector<Block>& blocks, const std::s
   const hsize_t n = blocks.size();
   h5::write_dataset(grp, "boundary_count", boundary_count, n, 1, f);
   h5::write_dataset(grp, "boundary", boundary, boundary.size(), 1, f);
+  h5::write_dataset(grp, "edge_joint", edge_joint, edge_joint.size(), 1, f);
   h5::write_dataset(grp, "rest_offsets_count", rest_count, n, 1, f);
   h5::write_dataset(grp, "rest_offsets", rest, rest.size() / 2, 2, f);
 }
@@ -339,9 +342,14 @@ void Restore::read_block_loops(const GroupReader& g, const std::vector<i32>& bou
   }
   const auto boundary = g.get<i32>("boundary", nbound);
   const auto rest = g.get<double>("rest_offsets", nrest, 2);
+  const auto edge_joint = g.get<i32>("edge_joint", nbound);
   for (std::size_t i = 0, k = 0; i < nb_; ++i)
-    for (int gpi : m_.blocks[i].boundary)
-      if (boundary[k++] != gpi) mismatch("the boundary loop of block " + str(i) + " ('" + m_.blocks[i].name + "')");
+    for (std::size_t e = 0; e < m_.blocks[i].boundary.size(); ++e, ++k) {
+      if (boundary[k] != m_.blocks[i].boundary[e])
+        mismatch("the boundary loop of block " + str(i) + " ('" + m_.blocks[i].name + "')");
+      if (edge_joint[k] != m_.blocks[i].edge_label(static_cast<int>(e)))
+        mismatch("the joint-set labels of the edges of block " + str(i) + " ('" + m_.blocks[i].name + "')");
+    }
   for (std::size_t i = 0, k = 0; i < nb_; ++i) {
     auto& r = blocks_[i].rest_offsets;
     r.resize(static_cast<std::size_t>(rest_count[i]));

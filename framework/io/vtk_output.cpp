@@ -9,7 +9,9 @@
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
+#include <vtkStringArray.h>
 #include <vtkUnsignedCharArray.h>
+#include <vtkFieldData.h>
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLDataElement.h>
 #include <vtkXMLDataParser.h>
@@ -123,6 +125,15 @@ void upsert(std::vector<VtkSeries::Entry>& entries, VtkSeries::Entry e) {
     entries.push_back(std::move(e));
 }
 
+// The names of the edge labels, "<joint>" or "<joint> bridge" ("cut" for glued cuts), by index.
+vtkNew<vtkStringArray> edge_label_names(const Model& m) {
+  vtkNew<vtkStringArray> names;
+  names->SetName("edge_label_names");
+  for (const auto& l : m.contacts.edge_labels)
+    names->InsertNextValue(l.joint.empty() ? std::string("cut") : l.joint + (l.bridge ? " bridge" : ""));
+  return names;
+}
+
 }  // namespace
 
 void write_blocks_vtu(const Model& m, const std::string& path) {
@@ -202,6 +213,10 @@ void write_contacts_vtu(const Model& m, const std::string& path) {
   auto pb = make_int_array("point_block", n);
   auto ob = make_int_array("other_block", n);
   auto joint = make_int_array("joint", n);
+  // Rock-mass edge of the other block the point is against: its label (ContactStore::edge_labels,
+  // -1 none) and whether that is a rock bridge or glued cut (1), a joint trace (0) or nothing (-1).
+  auto label = make_int_array("edge_label", n);
+  auto bridge = make_int_array("bridge", n);
   // One vertex cell per point: each cell is [1, i].
   vtkNew<vtkIdTypeArray> conn;
   conn->SetNumberOfValues(2 * n);
@@ -220,6 +235,9 @@ void write_contacts_vtu(const Model& m, const std::string& path) {
     pb->SetValue(i, c.key.point_block);
     ob->SetValue(i, c.key.other_block);
     joint->SetValue(i, c.joint);
+    const int l = m.blocks[static_cast<std::size_t>(c.other)].edge_label(c.edge);
+    label->SetValue(i, l);
+    bridge->SetValue(i, l < 0 ? -1 : (m.contacts.edge_labels[static_cast<std::size_t>(l)].bridge ? 1 : 0));
     conn->SetValue(2 * i, 1);
     conn->SetValue(2 * i + 1, i);
   }
@@ -232,8 +250,10 @@ void write_contacts_vtu(const Model& m, const std::string& path) {
                           static_cast<vtkDataArray*>(us), static_cast<vtkDataArray*>(un),
                           static_cast<vtkDataArray*>(state), static_cast<vtkDataArray*>(len),
                           static_cast<vtkDataArray*>(nrm), static_cast<vtkDataArray*>(pb),
-                          static_cast<vtkDataArray*>(ob), static_cast<vtkDataArray*>(joint)})
+                          static_cast<vtkDataArray*>(ob), static_cast<vtkDataArray*>(joint),
+                          static_cast<vtkDataArray*>(label), static_cast<vtkDataArray*>(bridge)})
     pd->AddArray(a);
+  grid->GetFieldData()->AddArray(edge_label_names(m));
   pd->SetActiveVectors("normal");  // the default orientation for Glyph
   write_grid(grid, path);
 }
@@ -265,6 +285,57 @@ void VtkSeries::resume(double time) {
   };
   blocks_ = keep(read_pvd(dir_ / "blocks.pvd", "blocks"));
   if (write_contacts_) contacts_ = keep(read_pvd(dir_ / "contacts.pvd", "contacts"));
+}
+
+void write_block_outlines_vtu(const Model& m, const std::vector<int>& region, const std::vector<int>& opening,
+                              const std::string& path) {
+  vtkNew<vtkUnstructuredGrid> grid;
+  auto pts = make_points(static_cast<vtkIdType>(m.gp.size()));
+  for (std::size_t i = 0; i < m.gp.size(); ++i) pts->SetPoint(static_cast<vtkIdType>(i), m.gp[i].x.x(), m.gp[i].x.y(), 0.0);
+  grid->SetPoints(pts);
+  const auto n = static_cast<vtkIdType>(m.blocks.size());
+  grid->Allocate(n);
+  auto block_id = make_int_array("block_id", n), group = make_int_array("group", n);
+  auto rigid = make_int_array("rigid", n), reg = make_int_array("region", n), open = make_int_array("opening", n);
+  std::vector<vtkIdType> ids;
+  for (vtkIdType i = 0; i < n; ++i) {
+    const Block& b = m.blocks[static_cast<std::size_t>(i)];
+    ids.assign(b.boundary.begin(), b.boundary.end());
+    grid->InsertNextCell(VTK_POLYGON, static_cast<vtkIdType>(ids.size()), ids.data());
+    block_id->SetValue(i, b.id);
+    group->SetValue(i, b.group);
+    rigid->SetValue(i, b.rigid ? 1 : 0);
+    reg->SetValue(i, region[static_cast<std::size_t>(i)]);
+    open->SetValue(i, opening[static_cast<std::size_t>(i)]);
+  }
+  for (vtkDataArray* a : {static_cast<vtkDataArray*>(block_id), static_cast<vtkDataArray*>(group),
+                          static_cast<vtkDataArray*>(rigid), static_cast<vtkDataArray*>(reg),
+                          static_cast<vtkDataArray*>(open)})
+    grid->GetCellData()->AddArray(a);
+  write_grid(grid, path);
+}
+
+void write_joint_traces_vtu(const std::vector<RockMassSegment>& segments, const std::string& path) {
+  vtkNew<vtkUnstructuredGrid> grid;
+  const auto n = static_cast<vtkIdType>(segments.size());
+  auto pts = make_points(2 * n);
+  auto source = make_int_array("joint_set", n), bridge = make_int_array("bridge", n), kind = make_int_array("kind", n);
+  grid->Allocate(n);
+  for (vtkIdType i = 0; i < n; ++i) {
+    const RockMassSegment& s = segments[static_cast<std::size_t>(i)];
+    pts->SetPoint(2 * i, s.a.x(), s.a.y(), 0.0);
+    pts->SetPoint(2 * i + 1, s.b.x(), s.b.y(), 0.0);
+    const vtkIdType line[2] = {2 * i, 2 * i + 1};
+    grid->InsertNextCell(VTK_LINE, 2, line);
+    source->SetValue(i, s.tag.source);
+    bridge->SetValue(i, s.tag.kind == EdgeKind::joint ? 0 : 1);
+    kind->SetValue(i, static_cast<int>(s.tag.kind));
+  }
+  grid->SetPoints(pts);
+  for (vtkDataArray* a : {static_cast<vtkDataArray*>(source), static_cast<vtkDataArray*>(bridge),
+                          static_cast<vtkDataArray*>(kind)})
+    grid->GetCellData()->AddArray(a);
+  write_grid(grid, path);
 }
 
 }  // namespace rockdem

@@ -12,10 +12,15 @@
 // contacts_<step>.vtu: one VTK_VERTEX per contact point at the contact gridpoint's position.
 //   point data: normal_stress, shear_stress (compression positive, [Pa]), shear_displacement,
 //               normal_displacement (opening positive, [m]), state (0 elastic, 1 slipping, 2 open),
-//               length [m], normal (3 components), point_block, other_block, joint
+//               length [m], normal (3 components), point_block, other_block, joint,
+//               edge_label (the rock-mass label of the other block's edge, -1 none; the names in
+//               the field data array edge_label_names), bridge (1 rock bridge or glued cut, 0
+//               joint trace, -1 no label)
 #include <filesystem>
 #include <string>
 #include <vector>
+
+#include "framework/geometry/rock_mass.hpp"
 
 namespace rockdem {
 
@@ -53,5 +58,13 @@ class VtkSeries {
 // The two grids as standalone writers (used by VtkSeries; handy for one-off snapshots).
 void write_blocks_vtu(const Model& m, const std::string& path);
 void write_contacts_vtu(const Model& m, const std::string& path);
+
+// Inspection before a run (`rockdem run --write-blocks`): one polygon cell per block over its
+// boundary loop, cell data block_id, group, rigid, region and opening (per block, -1 none).
+void write_block_outlines_vtu(const Model& m, const std::vector<int>& region, const std::vector<int>& opening,
+                              const std::string& path);
+// The rock mass's interior edges as lines, cell data joint_set (RockMassSegment::tag.source),
+// bridge (0 joint trace, 1 bridge or glued cut) and kind (EdgeKind: 0 joint, 1 bridge, 2 cut).
+void write_joint_traces_vtu(const std::vector<RockMassSegment>& segments, const std::string& path);
 
 }  // namespace rockdem

@@ -70,11 +70,23 @@ struct Contact {
   bool fresh = true;          // created at the last detection, law state just initialised
 };
 
-// Which joint model acts between two block groups.
+// What a block edge made by the rock-mass generator lies on: a joint set or named joint (by its
+// name; empty for a glued cut that is no joint: a region's or an opening's outline) and whether
+// it is a rock bridge (glued) rather than the joint's trace.
+struct EdgeLabel {
+  std::string joint;
+  bool bridge = false;
+  bool operator==(const EdgeLabel&) const = default;
+};
+
+// Which joint model acts between two block groups, and, if `labels` is not empty, only at
+// contacts against an edge with one of these labels (indices in ContactStore::edge_labels).
 struct JointAssignment {
   int group_a = -1, group_b = -1;  // -1: any group
   int model = 0;
+  std::vector<int> labels{};
 };
+
 
 class ContactStore {
  public:
@@ -85,11 +97,14 @@ class ContactStore {
   std::vector<std::string> model_names;  // the case-file names of the joint models
   std::vector<JointAssignment> assignments;
   std::vector<std::string> group_names;  // block-group names by index, for messages
+  std::vector<EdgeLabel> edge_labels;    // the labels Block::edge_joint refers to
   double rounding = 1e-3;         // corner rounding length d [m]
   double tolerance = 0.0;         // extra detection distance beyond d [m]
 
-  // Joint model for a pair of groups (first matching assignment; InputError if none).
-  int model_for(int group_a, int group_b) const;
+  // Joint model for a pair of groups at an edge with label `edge_label` (-1: none): the first
+  // assignment for that label whose groups match wins over the first group assignment (one
+  // without labels); InputError if none matches.
+  int model_for(int group_a, int group_b, int edge_label = -1) const;
 
   // Replace the contact list with `found`, carrying over the law state of contacts whose key
   // persists and initialising the state of new ones. Returns the number of new contacts.

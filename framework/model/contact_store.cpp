@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <string>
 
 #include "framework/model/contact.hpp"
@@ -5,12 +6,17 @@
 
 namespace rockdem {
 
-int ContactStore::model_for(int group_a, int group_b) const {
-  for (const auto& a : assignments) {
+int ContactStore::model_for(int group_a, int group_b, int edge_label) const {
+  const auto groups_match = [&](const JointAssignment& a) {
     const bool direct = (a.group_a < 0 || a.group_a == group_a) && (a.group_b < 0 || a.group_b == group_b);
     const bool swapped = (a.group_a < 0 || a.group_a == group_b) && (a.group_b < 0 || a.group_b == group_a);
-    if (direct || swapped) return a.model;
-  }
+    return direct || swapped;
+  };
+  if (edge_label >= 0)
+    for (const auto& a : assignments)
+      if (std::find(a.labels.begin(), a.labels.end(), edge_label) != a.labels.end() && groups_match(a)) return a.model;
+  for (const auto& a : assignments)
+    if (a.labels.empty() && groups_match(a)) return a.model;
   auto name = [&](int g) {
     return g >= 0 && g < static_cast<int>(group_names.size()) ? "'" + group_names[static_cast<std::size_t>(g)] + "'"
                                                               : std::to_string(g);

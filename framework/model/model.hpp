@@ -63,6 +63,11 @@ struct Block {
   std::uint8_t prescribed = 0;
   static constexpr std::uint8_t kDriveX = 1, kDriveY = 2, kDriveSpin = 4, kDriveAll = 7;
   std::vector<Vec2> rest_offsets;  // rigid: vertex offsets from the centroid at theta = 0
+  // Per boundary edge i (from boundary[i] to boundary[i + 1]): the index of its label in
+  // ContactStore::edge_labels (the joint set or named joint it lies on, or a rock bridge), -1 for
+  // none. Empty for blocks without labels (hand-written blocks).
+  std::vector<int> edge_joint;
+  int edge_label(int edge) const { return edge_joint.empty() ? -1 : edge_joint[static_cast<std::size_t>(edge)]; }
 };
 
 struct Model {
