@@ -23,6 +23,10 @@ struct StageSpec {
   bool auto_duration = false;  // duration = longest active velocity history
   long steps = 0;
   double ratio = 1e-5;       // unbalanced-force ratio for `equilibrium`
+  // >0: `equilibrium` also needs every free rigid block's own ratio (its net force over the sum of
+  // the forces on it) below this, so that one block falling into an opening, whose weight is a
+  // tiny part of the model's forces, is not taken for equilibrium.
+  double block_ratio = 0.0;
   long max_steps = 1000000;  // cap for `equilibrium`
   // Joint models put in force from this stage on (same law and effects, other parameter values;
   // the contacts keep their state): (index in ContactStore::models, model).

@@ -372,6 +372,7 @@ void read_until(const Reader& r, const toml::table& t, const std::string& path, 
     s.until = StageSpec::Until::equilibrium;
     s.ratio = r.positive(t, "ratio", Dimension::dimensionless, path, 1e-5);
     s.max_steps = r.integer(t, "max_steps", path, 1000000);
+    if (t.contains("block_ratio")) s.block_ratio = r.positive(t, "block_ratio", Dimension::dimensionless, path, 0.0);
   } else if (until == "duration") {
     s.until = StageSpec::Until::duration;
     const toml::node* d = t.get("duration");
@@ -573,8 +574,8 @@ StageInput CaseReader::stage(const toml::table& t) const {
   s.name = r.str(t, "name", "stages");
   const std::string path = "stages." + s.name;
   r.check_keys(t, path, {"name", "damping", "local_damping", "damping_ratio", "damping_frequency", "until", "duration",
-                         "steps", "ratio", "max_steps", "joints", "excavate", "relax_steps", "mass_scaling_dt",
-                         "mass_scaling"});
+                         "steps", "ratio", "block_ratio", "max_steps", "joints", "excavate", "relax_steps",
+                         "mass_scaling_dt", "mass_scaling"});
   if (const auto* jn = t.get("joints")) in.joint_changes = read_joint_changes(r, *jn, path);
   s.damping = read_damping(r, t, path);
   read_until(r, t, path, s);

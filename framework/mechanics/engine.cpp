@@ -305,21 +305,31 @@ void Engine::integrate() {
       g.v[d] += fd / mi * dt_;
     }
   }
+  block_ratio_ = 0.0;
+  worst_block_ = 0;
   for (std::size_t bi = 0; bi < m_.blocks.size(); ++bi) {
     Block& b = m_.blocks[bi];
     if (!b.rigid) continue;
     Vec2 f = Vec2::Zero();
-    double mom = 0.0;
+    double mom = 0.0, magnitudes = 0.0;
     for (int k = 0; k < b.n_gp; ++k) {
       const GridPoint& g = m_.gp[b.first_gp + k];
       f += g.f;
       mom += cross(g.x - b.xc, g.f);
+      magnitudes += g.f.norm();
     }
     f += b.mass * m_.gravity;
     applied_sum_ += b.mass * m_.gravity.norm();
+    magnitudes += b.mass * m_.gravity.norm();
     b.fc = f;
     b.moment = mom;
     if (b.fixed) continue;
+    const double fx = b.prescribed & Block::kDriveX ? 0.0 : f.x(), fy = b.prescribed & Block::kDriveY ? 0.0 : f.y();
+    const double own = magnitudes > 0.0 ? std::hypot(fx, fy) / magnitudes : 0.0;
+    if (own > block_ratio_) {
+      block_ratio_ = own;
+      worst_block_ = static_cast<int>(bi);
+    }
     const double mi = block_mass_[bi], ii = block_inertia_[bi];
     f -= am * mi * b.vc;
     mom -= am * ii * b.omega;

@@ -60,6 +60,10 @@ class Engine {
   const std::string& stage() const { return stage_; }
   // Unbalanced-force ratio: sum of |net force| over sum of |applied and contact forces|.
   double unbalanced_ratio() const { return ratio_; }
+  // The largest unbalanced-force ratio of a single free rigid block (its net force over the sum of
+  // the magnitudes of the forces on it, translation only) in the last step, and that block.
+  double block_unbalanced_ratio() const { return block_ratio_; }
+  int worst_block() const { return worst_block_; }
   // Contact force exerted on a block (sum over its contacts) in the last step [N/m].
   Vec2 contact_force_on(int block) const;
   double kinetic_energy() const;
@@ -97,6 +101,8 @@ class Engine {
   double dt_ = 0.0;
   double critical_dt_ = 0.0;  // stable step before dt_safety, at the last refresh
   double ratio_ = 0.0;
+  double block_ratio_ = 0.0;
+  int worst_block_ = 0;
   double applied_sum_ = 0.0;
   std::vector<double> inertial_mass_;      // per gridpoint (after mass scaling)
   std::vector<double> block_mass_, block_inertia_;

@@ -56,6 +56,9 @@ const HistoryQuantityRegistrar face_displacement_q{HistoryQuantity{
 const HistoryQuantityRegistrar unbalanced_ratio_q{HistoryQuantity{
     "unbalanced_ratio", "", "unbalanced force over applied force", false, false, false, {}, Reduction::max,
     [](const Model&, const Engine& e, const HistoryTarget&) { return e.unbalanced_ratio(); }}};
+const HistoryQuantityRegistrar block_unbalanced_ratio_q{HistoryQuantity{
+    "block_unbalanced_ratio", "", "largest unbalanced-force ratio of a single free rigid block", false, false, false, {},
+    Reduction::max, [](const Model&, const Engine& e, const HistoryTarget&) { return e.block_unbalanced_ratio(); }}};
 const HistoryQuantityRegistrar kinetic_energy_q{HistoryQuantity{
     "kinetic_energy", "J/m", "kinetic energy of the model", false, false, false, {}, Reduction::sum,
     [](const Model&, const Engine& e, const HistoryTarget&) { return e.kinetic_energy(); }}};

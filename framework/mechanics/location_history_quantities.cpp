@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 
+#include "framework/geometry/polygon.hpp"
 #include "framework/mechanics/history_quantities.hpp"
 
 namespace rockdem {
@@ -71,10 +72,26 @@ double zone_stress(const Model& m, const Engine&, const HistoryTarget& t) {
   return t.component == 3 ? c + r : c - r;  // s1 (algebraically largest), s2
 }
 
+// The rigid block whose initial outline contains `p`, or null.
+const Block* rigid_block_at(const Model& m, const Vec2& p) {
+  for (const Block& b : m.blocks)
+    if (b.rigid && crossing_number_inside(p, b.boundary.size(), [&](std::size_t i) -> const Vec2& { return m.gp[b.boundary[i]].x0; }))
+      return &b;
+  return nullptr;
+}
+
 double displacement_at(const Model& m, const Engine&, const HistoryTarget& t) {
   std::array<double, 3> w{};
   const Zone* z = zone_at(m, t.at, w);
-  if (!z) return std::nan("");
+  if (!z) {
+    // In a rigid block: the displacement of its material point that started at `at`.
+    const Block* b = rigid_block_at(m, t.at);
+    if (!b) return std::nan("");
+    const Vec2 r = t.at - b->xc0;
+    const double c = std::cos(b->theta), s = std::sin(b->theta);
+    const Vec2 u = b->xc - b->xc0 + Vec2(c * r.x() - s * r.y(), s * r.x() + c * r.y()) - r;
+    return u[t.component];
+  }
   double u = 0.0;
   for (int k = 0; k < 3; ++k) u += w[k] * (m.gp[z->n[k]].x - m.gp[z->n[k]].x0)[t.component];
   return u;
@@ -105,7 +122,7 @@ const HistoryQuantityRegistrar zone_stress_q{by_location(
     "zone_stress", "Pa", "stress of the zone containing `at` (tension positive): sxx, syy, sxy, or the principal "
     "stresses s1 >= s2", {"sxx", "syy", "sxy", "s1", "s2"}, zone_stress, false)};
 const HistoryQuantityRegistrar displacement_at_q{by_location(
-    "displacement_at", "m", "displacement of the material point that started at `at`, interpolated in the zone containing it, x or y", {"x", "y"},
+    "displacement_at", "m", "displacement of the material point that started at `at` (interpolated in the zone containing it, or of the rigid block containing it), x or y", {"x", "y"},
     displacement_at, false)};
 
 }  // namespace

@@ -37,11 +37,17 @@ bool StageRunner::done(long n) const {
     case StageSpec::Until::steps: return n >= st_.steps;
     case StageSpec::Until::duration: return e_.stage_time() >= duration_ - 0.5 * e_.dt();
     case StageSpec::Until::equilibrium: {
-      const bool converged = n >= 100 && e_.unbalanced_ratio() < st_.ratio;
-      if (!converged && n >= st_.max_steps)
-        throw InstabilityError("stage '" + st_.name + "' did not reach equilibrium (unbalanced-force ratio " +
-                               std::to_string(e_.unbalanced_ratio()) + " > " + std::to_string(st_.ratio) +
-                               ") within max_steps = " + std::to_string(st_.max_steps));
+      const bool blocks_ok = st_.block_ratio <= 0.0 || e_.block_unbalanced_ratio() < st_.block_ratio;
+      const bool converged = n >= 100 && e_.unbalanced_ratio() < st_.ratio && blocks_ok;
+      if (!converged && n >= st_.max_steps) {
+        std::string why = "unbalanced-force ratio " + std::to_string(e_.unbalanced_ratio()) + (e_.unbalanced_ratio() < st_.ratio ? " <= " : " > ") +
+                          std::to_string(st_.ratio);
+        if (st_.block_ratio > 0.0 && !blocks_ok)
+          why += "; block '" + e_.model().blocks[static_cast<std::size_t>(e_.worst_block())].name + "' has its own ratio " +
+                 std::to_string(e_.block_unbalanced_ratio()) + " > block_ratio " + std::to_string(st_.block_ratio);
+        throw InstabilityError("stage '" + st_.name + "' did not reach equilibrium (" + why + ") within max_steps = " +
+                               std::to_string(st_.max_steps));
+      }
       return converged;
     }
   }
