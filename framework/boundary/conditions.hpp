@@ -23,6 +23,17 @@ struct FaceSelection {
   std::vector<int> edges;   // positions i in the block's boundary loop (edge i -> i+1)
 };
 FaceSelection select_face(const Model& m, int block, const Vec2& direction);
+// Calls f(ga, gb, d) for each selected edge: its two gridpoints (counter-clockwise) and the vector
+// from the first to the second (the outward normal times the length is (d.y, -d.x)).
+template <class F>
+void for_each_edge(Model& m, const FaceSelection& sel, F&& f) {
+  const Block& b = m.blocks[static_cast<std::size_t>(sel.block)];
+  const int n = static_cast<int>(b.boundary.size());
+  for (int i : sel.edges) {
+    const int ga = b.boundary[static_cast<std::size_t>(i)], gb = b.boundary[static_cast<std::size_t>((i + 1) % n)];
+    f(ga, gb, Vec2(m.gp[gb].x - m.gp[ga].x));
+  }
+}
 // Face names: "top" (+y), "bottom" (-y), "left" (-x), "right" (+x); "all" selects every
 // boundary point. Throws InputError listing the valid names.
 Vec2 face_direction(const std::string& name, const std::string& where);

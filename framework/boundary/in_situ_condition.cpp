@@ -13,13 +13,9 @@ std::string InSituCondition::describe(const Model& m) const {
 
 double InSituCondition::forces(Model& m, double) {
   double applied = 0.0;
-  const Block& b = m.blocks[sel_.block];
-  const int n = static_cast<int>(b.boundary.size());
-  for (int i : sel_.edges) {
-    const int ga = b.boundary[i], gb = b.boundary[(i + 1) % n];
-    const Vec2 d = m.gp[gb].x - m.gp[ga].x;
+  for_each_edge(m, sel_, [&](int ga, int gb, const Vec2& d) {
     const double len = d.norm();
-    if (!(len > 0.0)) continue;
+    if (!(len > 0.0)) return;
     const Vec2 out = Vec2(d.y(), -d.x()) / len;  // outward unit normal (counter-clockwise loop)
     // The field is linear along the edge, so the consistent nodal loads of a linear traction
     // (L/6 (2 ta + tb) and L/6 (ta + 2 tb)) give its resultant and its moment exactly; a rigid
@@ -29,7 +25,7 @@ double InSituCondition::forces(Model& m, double) {
     m.gp[ga].f += fa;
     m.gp[gb].f += fb;
     applied += fa.norm() + fb.norm();
-  }
+  });
   return applied;
 }
 

@@ -20,11 +20,7 @@ std::string QuietCondition::describe(const Model& m) const {
 
 double QuietCondition::forces(Model& m, double) {
   double applied = 0.0;
-  const Block& b = m.blocks[sel_.block];
-  const int n = static_cast<int>(b.boundary.size());
-  for (int i : sel_.edges) {
-    const int ga = b.boundary[i], gb = b.boundary[(i + 1) % n];
-    const Vec2 d = m.gp[gb].x - m.gp[ga].x;
+  for_each_edge(m, sel_, [&](int ga, int gb, const Vec2& d) {
     const double len = d.norm();
     const Vec2 t = d / len;
     const Vec2 nrm(t.y(), -t.x());
@@ -34,7 +30,7 @@ double QuietCondition::forces(Model& m, double) {
       m.gp[g].f += f;
       applied += f.norm();
     }
-  }
+  });
   return applied;
 }
 

@@ -15,18 +15,14 @@ std::string TractionCondition::describe(const Model& m) const {
 
 double TractionCondition::forces(Model& m, double t) {
   double applied = 0.0;
-  const Block& b = m.blocks[sel_.block];
-  const int n = static_cast<int>(b.boundary.size());
   const double sn = normal_(t), ss = shear_(t);
-  for (int i : sel_.edges) {
-    const int ga = b.boundary[i], gb = b.boundary[(i + 1) % n];
-    const Vec2 d = m.gp[gb].x - m.gp[ga].x;  // counter-clockwise tangent times length
-    const Vec2 out(d.y(), -d.x());            // outward normal times length
-    const Vec2 f = -sn * out + ss * d;        // compression pushes inward
+  for_each_edge(m, sel_, [&](int ga, int gb, const Vec2& d) {  // d: counter-clockwise tangent times length
+    const Vec2 out(d.y(), -d.x());                              // outward normal times length
+    const Vec2 f = -sn * out + ss * d;                          // compression pushes inward
     m.gp[ga].f += 0.5 * f;
     m.gp[gb].f += 0.5 * f;
     applied += f.norm();
-  }
+  });
   return applied;
 }
 
