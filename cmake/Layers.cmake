@@ -22,7 +22,7 @@ set(ROCKDEM_LAYER_model_USES plugin_api geometry)
 set(ROCKDEM_LAYER_contact_DIR framework/contact)        # contact detection
 set(ROCKDEM_LAYER_contact_USES model)
 set(ROCKDEM_LAYER_boundary_DIR framework/boundary)      # boundary conditions, time functions
-set(ROCKDEM_LAYER_boundary_USES model)
+set(ROCKDEM_LAYER_boundary_USES model seismic)  # seismic: boundaries that apply ground motions
 set(ROCKDEM_LAYER_mechanics_DIR framework/mechanics)    # time stepping, zones, damping
 set(ROCKDEM_LAYER_mechanics_USES contact boundary)
 set(ROCKDEM_LAYER_parallel_DIR framework/parallel)      # MPI: the only layer that sees a communicator

@@ -6,6 +6,7 @@
 #include <iostream>
 
 #include "framework/app/command.hpp"
+#include "framework/app/plot_scripts.hpp"
 #include "framework/simulation/run_case.hpp"
 #include "framework/core/error.hpp"
 #include "framework/core/params.hpp"
@@ -18,6 +19,25 @@ namespace rockdem {
 namespace {
 
 namespace fs = std::filesystem;
+
+// A figure of each stage's applied ground motion beside its CSV (motion_<n>_<stage>.png). The run's
+// results do not depend on it: without Debian's python3-matplotlib the run still succeeds, with a note.
+void plot_stage_motions(const fs::path& dir, bool quiet) {
+  for (const auto& e : fs::directory_iterator(dir)) {
+    const std::string name = e.path().filename().string();
+    if (name.rfind("motion_", 0) != 0 || e.path().extension() != ".csv") continue;
+    const fs::path png = fs::path(e.path()).replace_extension(".png");
+    try {
+      const std::string script = find_plot_script("plot_motion.py", "ROCKDEM_PLOT_MOTION", "motion plot").string();
+      if (run_debian_python({script, e.path().string(), "-o", png.string()}, "motion plot") != 0)
+        std::cerr << "note: " << png.string() << " not drawn (plot_motion.py failed); the input is in " << name << "\n";
+      else if (!quiet)
+        std::cout << "  " << png.filename().string() << "  the ground motion applied (figure)\n";
+    } catch (const std::exception& ex) {
+      std::cerr << "note: " << png.string() << " not drawn (" << ex.what() << "); the input is in " << name << "\n";
+    }
+  }
+}
 
 const CommandRegistrar reg{Command{
     "run", "run a DEM case file (or the built-in default direct-shear case)", false,
@@ -85,6 +105,7 @@ const CommandRegistrar reg{Command{
         if (!restart->empty() && !fs::exists(*restart))
           throw InputError("--restart " + *restart + ": checkpoint file does not exist");
         run_case(c, dir, *quiet, *restart);
+        if (!c.motions.empty()) plot_stage_motions(dir, *quiet);
         return 0;
       };
     }}};

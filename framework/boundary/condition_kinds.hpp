@@ -24,6 +24,7 @@ struct ConditionKey {
   enum class Type {
     time_function,  // a value with unit or a time history, of `dimension`
     names,          // a list of names, e.g. components = ["x"]
+    choice,         // one name, e.g. base = "compliant" (read into ConditionValue::names[0])
   };
   std::string name;
   Type type = Type::time_function;
@@ -65,6 +66,11 @@ struct ConditionKind {
   // Acts on a whole rigid block, so that naming a face of a rigid block is a mistake.
   bool whole_rigid_block = false;
   std::function<std::unique_ptr<BoundaryCondition>(const ConditionInput&)> make;
+  // Kinds whose condition spans several blocks (a free-field column along a side made of many
+  // blocks) make one condition from all the selections of a region (or the one of a block face);
+  // `in.selection` is then the first of them. Empty: one condition per selection, by `make`.
+  std::function<std::unique_ptr<BoundaryCondition>(const ConditionInput& in, const std::vector<FaceSelection>& all)>
+      make_spanning;
 };
 
 // Kinds in the order of their ranks (the order messages and documentation list them in). Kinds

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "framework/boundary/time_function.hpp"
+#include "framework/seismic/input_motion.hpp"
 #include "framework/model/excavation.hpp"
 #include "framework/model/model.hpp"
 
@@ -56,6 +57,28 @@ class BoundaryCondition {
   // was removed returns false, is marked `removed` and is never active again.
   virtual bool renumber(const Renumbering&) { return true; }
   bool removed = false;
+  // The ground motions the stage about to start plays (its `motion` key), each with the stage's
+  // scale factor; called before setup() at every stage start, with none for a stage without.
+  // Conditions that apply seismic input (seismic_condition.cpp, free_field_condition.cpp) keep them.
+  struct StageMotion {
+    const seismic::InputMotion* motion = nullptr;
+    double factor = 1.0;
+  };
+  virtual void set_motions(const std::vector<StageMotion>&) {}
+  virtual bool takes_motions() const { return false; }
+  // After velocities(), once per step: conditions with a dynamic state of their own (the free
+  // field's column) advance it by the step's dt.
+  virtual void end_step(const Model&, double /*dt*/) {}
+  // State a condition carries from stage to stage (forces held since a stage's start, a free-field
+  // column's motion), written into checkpoints so a restarted run continues it exactly. Empty:
+  // nothing to keep.
+  virtual std::vector<double> saved_state() const { return {}; }
+  virtual void restore_state(const std::vector<double>&) {}
+  // Viscous conditions add the dashpot coefficient [N s/m per m] each of their gridpoints feels
+  // to `c` (indexed like Model::gp): explicit dashpots are stable only for dt < 2 m / c, which
+  // the engine's time step then respects (a rigid block with a quiet face has a large mass but
+  // also a large dashpot, and its contact stiffness alone would allow too long a step).
+  virtual void add_dashpots(const Model&, std::vector<double>& /*c*/) const {}
   // Stages this condition is active in (empty: all).
   std::vector<std::string> stages;
   bool active_in(const std::string& stage) const;

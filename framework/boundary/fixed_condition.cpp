@@ -72,7 +72,7 @@ using Type = ConditionKey::Type;
 const ConditionKindRegistrar fixed_kind{10, ConditionKind{
     "fixed", "gridpoints (or a whole rigid block) held in place",
     {{"components", Type::names, Dimension::dimensionless, "components held, [\"x\"], [\"y\"] or both (default)"}},
-    true, make_fixed}};
+    true, make_fixed, {}}};
 
 }  // namespace
 }  // namespace rockdem

@@ -41,7 +41,7 @@ std::unique_ptr<BoundaryCondition> make_in_situ(const ConditionInput& in) {
 // The rank places the kind in messages' list: fixed, velocity, traction, in_situ, quiet.
 const ConditionKindRegistrar in_situ_kind{35, ConditionKind{
     "in_situ", "the traction sigma(x) . n of the case's [in_situ] stress field, varying along the face",
-    {}, false, make_in_situ}};
+    {}, false, make_in_situ, {}}};
 
 }  // namespace
 }  // namespace rockdem

@@ -42,7 +42,7 @@ const ConditionKindRegistrar traction_kind{30, ConditionKind{
     "traction", "normal and shear stress on a face, functions of stage time",
     {{"normal", Type::time_function, Dimension::stress, "normal stress history, compression positive (default 0)"},
      {"shear", Type::time_function, Dimension::stress, "shear stress history, counter-clockwise positive (default 0)"}},
-    false, make_traction}};
+    false, make_traction, {}}};
 
 }  // namespace
 }  // namespace rockdem

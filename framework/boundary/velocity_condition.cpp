@@ -72,7 +72,7 @@ const ConditionKindRegistrar velocity_kind{20, ConditionKind{
     {{"vx", Type::time_function, Dimension::velocity, "x velocity history"},
      {"vy", Type::time_function, Dimension::velocity, "y velocity history"},
      {"spin", Type::time_function, Dimension::angular_velocity, "angular velocity history (rigid blocks only)"}},
-    true, make_velocity}};
+    true, make_velocity, {}}};
 
 }  // namespace
 }  // namespace rockdem

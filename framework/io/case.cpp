@@ -28,6 +28,7 @@ Case build(const toml::table& root, const CaseReader& r) {
     for (const auto& s : rock_mass_blocks(read_rock_mass(*t, r.file()))) b.add_block(s);
   b.finish_blocks();
   if (const auto* t = root["in_situ"].as_table()) b.in_situ(r.in_situ(*t));
+  for (const auto* t : r.tables(root, "motions")) b.add_motion(r.motion(*t));
   for (const auto* t : r.tables(root, "boundary")) b.add_boundary(r.boundary(*t));
   for (const auto* t : r.tables(root, "stages")) b.add_stage(r.stage(*t));
   b.finish_stages();

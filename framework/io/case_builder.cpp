@@ -240,6 +240,15 @@ void CaseBuilder::add_region_boundary(const BoundarySpec& s) {
   if (selections.empty())
     throw InputError(s.region_where + ": no boundary gridpoint of any block lies in the region; check its coordinates "
                      "and units (or the line's tolerance)");
+  if (kind.make_spanning) {
+    ConditionInput in{m, selections.front(), m.blocks[selections.front().block].rigid, s.values, s.where};
+    in.stress_field = c_.in_situ ? &*c_.in_situ : nullptr;
+    in.by_region = true;
+    auto bc = kind.make_spanning(in, selections);
+    bc->stages = s.stages;
+    c_.conditions.push_back(std::move(bc));
+    return;
+  }
   for (const FaceSelection& sel : selections) {
     ConditionInput in{m, sel, m.blocks[sel.block].rigid, s.values, s.where};
     in.stress_field = c_.in_situ ? &*c_.in_situ : nullptr;
@@ -267,7 +276,7 @@ void CaseBuilder::add_boundary(const BoundarySpec& s) {
   const ConditionKind& kind = kinds.get(s.type, s.type_where);
   ConditionInput in{m, std::move(sel), rigid, s.values, s.where};
   in.stress_field = c_.in_situ ? &*c_.in_situ : nullptr;
-  auto bc = kind.make(in);
+  auto bc = kind.make_spanning ? kind.make_spanning(in, {in.selection}) : kind.make(in);
   bc->stages = s.stages;
   c_.conditions.push_back(std::move(bc));
 }
@@ -310,6 +319,7 @@ int CaseBuilder::excavated_by(int block) const {
 void CaseBuilder::add_stage(const StageInput& s) {
   StageSpec stage = s.stage;
   resolve_excavation(s, stage);
+  resolve_motions(s, stage);
   for (const auto& change : s.joint_changes) {
     auto def = std::find_if(joints_.begin(), joints_.end(), [&](const JointSpec& j) { return j.name == change.joint; });
     if (def == joints_.end())
@@ -346,6 +356,7 @@ void CaseBuilder::finish_stages() {
                        c_.stages[static_cast<std::size_t>(k)].name + ".excavate), but it is active in that stage or "
                        "later; limit it to earlier stages with stages = [...] or do not excavate the block");
   }
+  check_stage_motions();
 }
 
 int CaseBuilder::component_index(const HistoryQuantity& q, const HistoryInput& s) {
@@ -427,6 +438,7 @@ Case build_case(const CaseSpec& spec) {
   for (const auto& s : spec.blocks) b.add_block(s);
   b.finish_blocks();
   if (spec.in_situ) b.in_situ(*spec.in_situ);
+  for (const auto& s : spec.motions) b.add_motion(s);
   for (const auto& s : spec.boundaries) b.add_boundary(s);
   for (const auto& s : spec.stages) b.add_stage(s);
   b.finish_stages();

@@ -6,7 +6,7 @@
 // code that makes its specs itself (e.g. a rock-mass generator) calls build_case().
 //
 // The parts must come in this order, each at most once unless it says "add": model_settings,
-// time, add_material, add_joint, add_block, finish_blocks, in_situ, add_boundary, add_stage, finish_stages,
+// time, add_material, add_joint, add_block, finish_blocks, in_situ, add_motion, add_boundary, add_stage, finish_stages,
 // add_history, direct_shear, output, finish. Every mistake is an InputError naming the spec's
 // `where` for it.
 #include <map>
@@ -33,6 +33,8 @@ class CaseBuilder {
   // The in-situ stress field; a field that does not balance the model's gravity (a density other
   // than the blocks', a gradient without gravity, a datum below the top of the model) is a mistake.
   void in_situ(const InSituSpec& s);
+  // A [[motions]] entry: its record read, processed and checked against the mesh (after the blocks).
+  void add_motion(const MotionSpec& s);
   void add_boundary(const BoundarySpec& s);
   void add_stage(const StageInput& s);
   // No stages, and conditions naming stages that do not exist, are mistakes.
@@ -45,6 +47,9 @@ class CaseBuilder {
  private:
   void add_region_boundary(const BoundarySpec& s);
   void resolve_excavation(const StageInput& s, StageSpec& stage);
+  void resolve_motions(const StageInput& s, StageSpec& stage) const;
+  // Every stage's motions are taken by a condition active in it, of a type it can take.
+  void check_stage_motions();
   int excavated_by(int block) const;
   static int component_index(const HistoryQuantity& q, const HistoryInput& s);
   int group_index(const std::string& group);

@@ -12,6 +12,7 @@
 #include "framework/mechanics/history_quantities.hpp"
 #include "framework/model/model.hpp"
 #include "framework/model/stress_field.hpp"
+#include "framework/seismic/input_motion.hpp"
 
 namespace rockdem {
 
@@ -38,6 +39,12 @@ struct StageSpec {
   // Mass scaling in this stage: the stable time step masses are scaled to (0: real masses);
   // none: the case's [time] mass_scaling_dt.
   std::optional<double> mass_scaling_dt;
+  // Ground motions played from the stage's start: (index in Case::motions, scale factor).
+  struct Motion {
+    int index = 0;
+    double factor = 1.0;
+  };
+  std::vector<Motion> motions;
 };
 
 // One named history: a registered quantity (framework/mechanics/history_quantities.hpp) measured
@@ -83,6 +90,8 @@ struct Case {
   std::vector<std::unique_ptr<BoundaryCondition>> conditions;
   // [in_situ]: zones and contacts start from this field at the start of the run (not on restart).
   std::optional<StressField> in_situ;
+  // [[motions]], processed (shared: conditions hold pointers to them while the case runs).
+  std::vector<std::shared_ptr<const seismic::InputMotion>> motions;
   std::vector<StageSpec> stages;
   std::vector<HistorySpec> histories;
   DirectShearSpec direct_shear;

@@ -229,9 +229,21 @@ Damping read_damping(const Reader& r, const toml::table& t, const std::string& p
   }
   if (kind == "rayleigh") {
     const double xi = r.quantity(t, "damping_ratio", Dimension::dimensionless, path);
-    const double f = r.positive(t, "damping_frequency", Dimension::frequency, path);
     if (xi < 0.0 || xi >= 1.0)
       throw InputError(r.at(*t.get("damping_ratio"), path + ".damping_ratio") + ": must be in [0, 1), got " + std::to_string(xi));
+    // One frequency: the fraction at its minimum there; two: the same fraction at both ends of a
+    // band (below it at frequencies between them).
+    if (const auto* band = t.get("damping_frequency"); band && band->is_array()) {
+      const auto& a = *band->as_array();
+      const std::string where = r.at(*band, path + ".damping_frequency");
+      if (a.size() != 2) throw InputError(where + ": expected one frequency or a band of two, e.g. [\"1 Hz\", \"10 Hz\"]");
+      const double f1 = r.quantity(*a.get(0), Dimension::frequency, path + ".damping_frequency");
+      const double f2 = r.quantity(*a.get(1), Dimension::frequency, path + ".damping_frequency");
+      if (!(f1 > 0.0 && f2 > f1 && std::isfinite(f2)))
+        throw InputError(where + ": the band needs 0 < f1 < f2");
+      return Damping::rayleigh_band(xi, f1, f2);
+    }
+    const double f = r.positive(t, "damping_frequency", Dimension::frequency, path);
     return Damping::rayleigh(xi, f);
   }
   throw InputError(r.at(*t.get("damping"), path + ".damping") + ": unknown damping '" + kind +
@@ -295,6 +307,33 @@ void read_mesh(const Reader& r, const toml::table& t, const std::string& path, B
   b.mesh = kind == "structured" ? BlockSpec::Mesh::structured : BlockSpec::Mesh::unstructured;
 }
 
+// motion = "name" or ["h", "v"], and its scaling for the stage: motion_scale, pga or pgv.
+void read_stage_motions(const Reader& r, const toml::table& t, const std::string& path, StageInput& in) {
+  if (const toml::node* n = t.get("motion")) {
+    if (const auto* a = n->as_array()) {
+      for (const auto& e : *a) {
+        in.motions.push_back(r.str(e, path + ".motion"));
+        in.motion_wheres.push_back(r.at(e, path + ".motion"));
+      }
+    } else {
+      in.motions.push_back(r.str(*n, path + ".motion"));
+      in.motion_wheres.push_back(r.at(*n, path + ".motion"));
+    }
+    if (in.motions.empty()) throw InputError(r.at(*n, path + ".motion") + ": name at least one [[motions]] entry");
+  }
+  using Kind = seismic::MotionScaling::Kind;
+  int given = 0;
+  for (auto [key, kind, dim] : {std::tuple{"motion_scale", Kind::factor, Dimension::dimensionless},
+                                std::tuple{"pga", Kind::pga, Dimension::acceleration},
+                                std::tuple{"pgv", Kind::pgv, Dimension::velocity}}) {
+    if (!t.contains(key)) continue;
+    const std::string where = r.at(*t.get(key), path + "." + key);
+    if (in.motions.empty()) throw InputError(where + ": the stage plays no motion (add motion = \"...\")");
+    if (++given > 1) throw InputError(where + ": give one of motion_scale, pga and pgv");
+    in.motion_scaling = {kind, r.positive(t, key, dim, path)};
+  }
+}
+
 // A [[boundary]] key of a condition kind, read as the kind declares it.
 ConditionValue read_condition_value(const Reader& r, const toml::table& t, const ConditionKey& key, const std::string& path) {
   ConditionValue v;
@@ -303,6 +342,13 @@ ConditionValue read_condition_value(const Reader& r, const toml::table& t, const
     const toml::node& n = *t.get(key.name);
     v.where = r.at(n, key_path);
     v.function = r.time_function(n, key.dimension, key_path);
+    return v;
+  }
+  if (key.type == ConditionKey::Type::choice) {
+    const toml::node& n = *t.get(key.name);
+    v.where = r.at(n, key_path);
+    v.names.push_back(r.str(n, key_path));
+    v.name_wheres.push_back(v.where);
     return v;
   }
   const auto* a = r.array(t, key.name);
@@ -412,7 +458,7 @@ void read_test_stages(const Reader& r, const toml::table& t, const std::string& 
 std::string CaseReader::top_level(const toml::table& root) const {
   const Reader r{file_, base_dir_};
   r.check_keys(root, "case", {"title", "model", "time", "materials", "joints", "blocks", "rock_mass", "boundary",
-                               "stages", "histories", "direct_shear", "output", "in_situ"});
+                               "stages", "histories", "direct_shear", "output", "in_situ", "motions"});
   std::string title = r.str(root, "title", "case", std::string("untitled"));
   for (const char* key : {"model", "time", "rock_mass", "direct_shear", "output", "in_situ"})
     if (const toml::node* n = root.get(key); n && !n->is_table())
@@ -575,7 +621,7 @@ StageInput CaseReader::stage(const toml::table& t) const {
   const std::string path = "stages." + s.name;
   r.check_keys(t, path, {"name", "damping", "local_damping", "damping_ratio", "damping_frequency", "until", "duration",
                          "steps", "ratio", "block_ratio", "max_steps", "joints", "excavate", "relax_steps",
-                         "mass_scaling_dt", "mass_scaling"});
+                         "mass_scaling_dt", "mass_scaling", "motion", "motion_scale", "pga", "pgv"});
   if (const auto* jn = t.get("joints")) in.joint_changes = read_joint_changes(r, *jn, path);
   s.damping = read_damping(r, t, path);
   read_until(r, t, path, s);
@@ -584,6 +630,7 @@ StageInput CaseReader::stage(const toml::table& t) const {
       in.excavate.push_back(r.str(e, path + ".excavate"));
       in.excavate_wheres.push_back(r.at(e, path + ".excavate"));
     }
+  read_stage_motions(r, t, path, in);
   s.relax_steps = r.integer(t, "relax_steps", path, 0);
   if (s.relax_steps < 0) throw InputError(r.at(*t.get("relax_steps"), path + ".relax_steps") + ": must be >= 0 steps");
   if (t.contains("relax_steps") && in.excavate.empty())

@@ -31,6 +31,7 @@ class CaseReader {
   JointSpec joint(const toml::table& t) const;                   // [[joints]]
   BlockSpec block(const toml::table& t) const;                   // [[blocks]]
   InSituSpec in_situ(const toml::table& t) const;                // [in_situ]
+  MotionSpec motion(const toml::table& t) const;                 // [[motions]] (motion_reader.cpp)
   BoundarySpec boundary(const toml::table& t) const;             // [[boundary]]
   StageInput stage(const toml::table& t) const;                  // [[stages]]
   HistoryInput history(const toml::table& t) const;              // [[histories]]

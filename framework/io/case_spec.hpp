@@ -20,6 +20,7 @@
 #include "framework/io/case_data.hpp"
 #include "framework/model/contact.hpp"
 #include "framework/plugin_api/joint_law.hpp"
+#include "framework/seismic/input_motion.hpp"
 
 namespace rockdem {
 
@@ -90,6 +91,22 @@ struct InSituSpec {
   std::string where, surface_where, density_where;
 };
 
+// [[motions]]: a recorded ground motion and how it is processed into a model's input
+// (framework/seismic/input_motion.hpp; keys in docs/case-files.md).
+struct MotionSpec {
+  std::string name;
+  std::string file;                // path as resolved against the case's folder
+  std::string format = "auto";     // auto (by extension and content), columns, csv, peer_at2
+  seismic::RecordLayout layout;    // column, time column or dt, unit
+  seismic::MotionType type = seismic::MotionType::outcrop;
+  int direction = 0;               // 0: x, 1: y
+  seismic::DisplacementProcessing processing;
+  seismic::MotionScaling scaling;
+  bool refuse_above_mesh = false;  // above_mesh = "refuse" (else "filter": low-pass at the mesh limit)
+  double zones_per_wavelength = 10.0;
+  std::string where, file_where, filter_where;
+};
+
 // [[boundary]]: a condition of a registered kind (framework/boundary/condition_kinds.hpp) on a
 // block's face, with the values of the kind's keys.
 struct BoundarySpec {
@@ -112,6 +129,10 @@ struct StageInput {
   };
   StageSpec stage;  // joint_models left empty: the builder makes them from `joint_changes`
   std::vector<JointChange> joint_changes;
+  // Ground motions the stage plays from its start ([[motions]] names), and their scaling for this
+  // stage (a factor, or a target peak of the first motion, the others keeping their ratio to it).
+  std::vector<std::string> motions, motion_wheres;
+  seismic::MotionScaling motion_scaling;
   // Block or group names the stage excavates, with where each was written.
   std::vector<std::string> excavate, excavate_wheres;
 };
@@ -149,6 +170,7 @@ struct CaseSpec {
   std::vector<JointSpec> joints;
   std::vector<BlockSpec> blocks;
   std::optional<InSituSpec> in_situ;
+  std::vector<MotionSpec> motions;
   std::vector<BoundarySpec> boundaries;
   std::vector<StageInput> stages;
   std::vector<HistoryInput> histories;

@@ -159,7 +159,8 @@ void write_contact_store(hid_t grp, const ContactStore& store, const std::string
 
 }  // namespace
 
-void write_checkpoint(const Model& m, const std::string& path, const CheckpointScalars& extra) {
+void write_checkpoint(const Model& m, const std::string& path, const CheckpointScalars& extra,
+                      const CheckpointArrays& arrays) {
   const std::string tmp = path + ".tmp";
   {
     h5::QuietErrors quiet;
@@ -182,6 +183,10 @@ void write_checkpoint(const Model& m, const std::string& path, const CheckpointS
     {
       h5::Handle grp = h5::create_group(file, "extra", f);
       for (const auto& [k, v] : extra) h5::write_attr<double>(grp, k, v, f);
+    }
+    if (!arrays.empty()) {
+      h5::Handle grp = h5::create_group(file, "arrays", f);
+      for (const auto& [k, v] : arrays) h5::write_dataset(grp, k, v, v.size(), 1, f);
     }
     h5::check_status(H5Fflush(file, H5F_SCOPE_LOCAL), "cannot flush " + tmp);
   }
@@ -452,6 +457,35 @@ CheckpointScalars read_impl(Model& m, const std::string& path) {
   return extra;
 }
 }  // namespace
+
+namespace {
+herr_t collect_link_name(hid_t, const char* name, const H5L_info_t*, void* data) {
+  static_cast<std::vector<std::string>*>(data)->push_back(name);
+  return 0;
+}
+}  // namespace
+
+CheckpointArrays read_checkpoint_arrays(const std::string& path) {
+  CheckpointArrays out;
+  h5::QuietErrors quiet;
+  h5::Handle file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+  if (!file.valid()) throw InputError("cannot open checkpoint '" + path + "'");
+  if (H5Lexists(file, "arrays", H5P_DEFAULT) <= 0) return out;
+  h5::Handle grp = h5::open_group(file, "arrays", path);
+  std::vector<std::string> names;
+  hsize_t idx = 0;
+  H5Literate(grp, H5_INDEX_NAME, H5_ITER_INC, &idx, collect_link_name, &names);
+  for (const auto& n : names) {
+    h5::Handle ds(H5Dopen2(grp, n.c_str(), H5P_DEFAULT), H5Dclose);
+    const auto [rows, cols] = h5::dataset_shape(ds);
+    std::vector<double> v(rows * cols);
+    if (!v.empty())
+      h5::check_status(H5Dread(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()),
+                       "checkpoint '" + path + "': cannot read /arrays/" + n);
+    out[n] = std::move(v);
+  }
+  return out;
+}
 
 CheckpointScalars read_checkpoint(Model& m, const std::string& path) {
   try {

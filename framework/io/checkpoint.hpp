@@ -16,6 +16,7 @@
 // framework/model/state_fields.hpp: a field added there is written and read back.
 #include <map>
 #include <string>
+#include <vector>
 
 namespace rockdem {
 
@@ -24,8 +25,16 @@ struct Model;
 // Engine state that lives outside the Model (stage index, time step, loading-block travel, ...).
 using CheckpointScalars = std::map<std::string, double>;
 
+// State that lives outside the Model as named arrays (boundary conditions' own state, e.g. the
+// forces a quiet boundary holds and a free-field column's motion), in the group /arrays.
+using CheckpointArrays = std::map<std::string, std::vector<double>>;
+
 // Writes to `path` + ".tmp" and renames, so an existing checkpoint survives a crash mid-write.
-void write_checkpoint(const Model& m, const std::string& path, const CheckpointScalars& extra = {});
+void write_checkpoint(const Model& m, const std::string& path, const CheckpointScalars& extra = {},
+                      const CheckpointArrays& arrays = {});
+
+// The arrays of a checkpoint (none for checkpoints without the group).
+CheckpointArrays read_checkpoint_arrays(const std::string& path);
 
 // Restores the state written by write_checkpoint into `m` and returns the extra scalars.
 CheckpointScalars read_checkpoint(Model& m, const std::string& path);

@@ -20,6 +20,15 @@ Damping Damping::rayleigh(double xi, double f) {
   return d;
 }
 
+Damping Damping::rayleigh_band(double xi, double f1, double f2) {
+  Damping d;
+  d.kind = Kind::rayleigh;
+  const double w1 = 2.0 * std::numbers::pi * f1, w2 = 2.0 * std::numbers::pi * f2;
+  d.alpha = 2.0 * xi * w1 * w2 / (w1 + w2);
+  d.beta = 2.0 * xi / (w1 + w2);
+  return d;
+}
+
 Engine::Engine(Model& m, EngineSettings s) : m_(m), s_(s) {}
 
 void Engine::add_condition(std::unique_ptr<BoundaryCondition> bc) { bcs_.push_back(std::move(bc)); }
@@ -141,6 +150,22 @@ void Engine::compute_time_step() {
     if (kb[b] > 0.0) dt = std::min(dt, 2.0 * std::sqrt(mass / kb[b]));
     if (krot[b] > 0.0) dt = std::min(dt, 2.0 * std::sqrt(inertia / krot[b]));
   }
+  // Dashpots of viscous boundaries: an explicit damper is stable for dt < 2 m / c.
+  dashpot_.assign(m_.gp.size(), 0.0);
+  for (auto* bc : active_) bc->add_dashpots(m_, dashpot_);
+  for (std::size_t i = 0; i < m_.gp.size(); ++i)
+    if (dashpot_[i] > 0.0 && !m_.blocks[m_.gp[i].block].rigid) dt = std::min(dt, 2.0 * inertial_mass_[i] / dashpot_[i]);
+  for (std::size_t b = 0; b < nb; ++b) {
+    const Block& B = m_.blocks[b];
+    if (!B.rigid || B.fixed || B.prescribed == Block::kDriveAll) continue;
+    double c = 0.0, crot = 0.0;
+    for (int i = B.first_gp; i < B.first_gp + B.n_gp; ++i) {
+      c += dashpot_[static_cast<std::size_t>(i)];
+      crot += dashpot_[static_cast<std::size_t>(i)] * (m_.gp[static_cast<std::size_t>(i)].x - B.xc).squaredNorm();
+    }
+    if (c > 0.0) dt = std::min(dt, 2.0 * block_mass_[b] / c);
+    if (crot > 0.0 && block_inertia_[b] > 0.0) dt = std::min(dt, 2.0 * block_inertia_[b] / crot);
+  }
   if (dt == std::numeric_limits<double>::max()) dt = 1e-3;  // nothing couples yet: free flight
   critical_dt_ = dt;
   dt *= s_.dt_safety;
@@ -219,6 +244,7 @@ void Engine::step() {
   }
   integrate();
   for (auto* bc : active_) bc->velocities(m_, stage_time_ + dt_);
+  for (auto* bc : active_) bc->end_step(m_, dt_);
   // Positions from the final half-step velocities (prescribed ones included).
   for (std::size_t i = 0; i < m_.gp.size(); ++i) {
     GridPoint& g = m_.gp[i];

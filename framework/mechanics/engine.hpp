@@ -105,6 +105,7 @@ class Engine {
   int worst_block_ = 0;
   double applied_sum_ = 0.0;
   std::vector<double> inertial_mass_;      // per gridpoint (after mass scaling)
+  std::vector<double> dashpot_;            // per gridpoint: viscous boundaries' dashpots [N s/m per m]
   std::vector<double> block_mass_, block_inertia_;
   std::vector<Vec2> block_contact_force_;  // per block, last step
   std::vector<Vec2> mean_v_, mean_f_, mass_sum_;  // per block, for local damping

@@ -13,6 +13,9 @@ struct Damping {
   // Rayleigh coefficients for a critical-damping fraction `xi` at frequency `f` [Hz], split
   // evenly between mass and stiffness terms (minimum of the Rayleigh curve at f).
   static Damping rayleigh(double xi, double f);
+  // Rayleigh coefficients giving the fraction `xi` at both f1 and f2 [Hz] (less between them):
+  // alpha = 2 xi w1 w2 / (w1 + w2), beta = 2 xi / (w1 + w2) (Chopra 2012, sec. 11.4).
+  static Damping rayleigh_band(double xi, double f1, double f2);
 };
 
 struct EngineSettings {

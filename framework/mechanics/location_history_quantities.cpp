@@ -80,22 +80,30 @@ const Block* rigid_block_at(const Model& m, const Vec2& p) {
   return nullptr;
 }
 
-double displacement_at(const Model& m, const Engine&, const HistoryTarget& t) {
+// The displacement (or velocity) of the material point that started at `at`: interpolated in the
+// zone containing it, or that of the rigid block's point.
+double motion_at(const Model& m, const HistoryTarget& t, bool velocity) {
   std::array<double, 3> w{};
   const Zone* z = zone_at(m, t.at, w);
   if (!z) {
-    // In a rigid block: the displacement of its material point that started at `at`.
     const Block* b = rigid_block_at(m, t.at);
     if (!b) return std::nan("");
-    const Vec2 r = t.at - b->xc0;
+    const Vec2 r0 = t.at - b->xc0;
     const double c = std::cos(b->theta), s = std::sin(b->theta);
-    const Vec2 u = b->xc - b->xc0 + Vec2(c * r.x() - s * r.y(), s * r.x() + c * r.y()) - r;
+    const Vec2 r(c * r0.x() - s * r0.y(), s * r0.x() + c * r0.y());
+    const Vec2 u = velocity ? Vec2(b->vc + b->omega * perp(r)) : Vec2(b->xc - b->xc0 + r - r0);
     return u[t.component];
   }
   double u = 0.0;
-  for (int k = 0; k < 3; ++k) u += w[k] * (m.gp[z->n[k]].x - m.gp[z->n[k]].x0)[t.component];
+  for (int k = 0; k < 3; ++k) {
+    const GridPoint& g = m.gp[z->n[k]];
+    u += w[k] * (velocity ? g.v : Vec2(g.x - g.x0))[t.component];
+  }
   return u;
 }
+
+double displacement_at(const Model& m, const Engine&, const HistoryTarget& t) { return motion_at(m, t, false); }
+double velocity_at(const Model& m, const Engine&, const HistoryTarget& t) { return motion_at(m, t, true); }
 
 HistoryQuantity by_location(std::string name, std::string unit, std::string description, std::vector<std::string> comps,
                             std::function<double(const Model&, const Engine&, const HistoryTarget&)> f, bool segment) {
@@ -124,6 +132,9 @@ const HistoryQuantityRegistrar zone_stress_q{by_location(
 const HistoryQuantityRegistrar displacement_at_q{by_location(
     "displacement_at", "m", "displacement of the material point that started at `at` (interpolated in the zone containing it, or of the rigid block containing it), x or y", {"x", "y"},
     displacement_at, false)};
+const HistoryQuantityRegistrar velocity_at_q{by_location(
+    "velocity_at", "m/s", "velocity of the material point that started at `at` (interpolated in the zone containing it, or of the rigid block containing it; the half-step velocity), x or y", {"x", "y"},
+    velocity_at, false)};
 
 }  // namespace
 }  // namespace rockdem

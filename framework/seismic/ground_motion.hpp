@@ -42,6 +42,11 @@ struct GroundMotion {
 // skipped. Sampling must be uniform to 1e-3 dt; at least two samples.
 GroundMotion load_ground_motion(const std::string& path, const RecordLayout& layout);
 
+// A record in the PEER NGA format (.AT2): four header lines (the third names the unit, "UNITS
+// OF G"; the fourth gives NPTS and DT, as "NPTS= n, DT= dt SEC" or "n dt NPTS, DT"), then the
+// NPTS accelerations, several per line. Every problem is an InputError naming file:line.
+GroundMotion load_peer_at2(const std::string& path);
+
 // Index of the largest |acc|.
 std::size_t peak_index(const std::vector<double>& x);
 

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <fstream>
 #include <cmath>
 #include <iomanip>
 #include <iostream>
@@ -133,6 +134,9 @@ class Progress {
               << "  vtk/contacts.pvd  contact points (normal/shear stress, slip state)\n"
               << "  final_state.h5    checkpoint of the final state\n";
     if (!csv.empty()) std::cout << "  " << csv.filename().string() << "  joint test record in the measurement format\n";
+    for (std::size_t i = 0; i < c_.stages.size(); ++i)
+      if (!c_.stages[i].motions.empty())
+        std::cout << "  motion_" << i + 1 << "_" << c_.stages[i].name << ".csv  the ground motion applied in that stage\n";
   }
 
  private:
@@ -151,11 +155,68 @@ struct Run {
   Progress& progress;
 };
 
+// The state boundary conditions carry from stage to stage (forces held by quiet boundaries, the
+// free field's motion), by the condition's position in the case.
+CheckpointArrays condition_states(const Engine& e) {
+  CheckpointArrays a;
+  for (std::size_t i = 0; i < e.conditions().size(); ++i)
+    if (auto s = e.conditions()[i]->saved_state(); !s.empty()) a["condition_" + std::to_string(i)] = std::move(s);
+  return a;
+}
+
+void restore_condition_states(Engine& e, const std::string& restart) {
+  for (const auto& [name, state] : read_checkpoint_arrays(restart)) {
+    if (name.rfind("condition_", 0) != 0) continue;
+    const std::size_t i = std::stoul(name.substr(10));
+    if (i >= e.conditions().size())
+      throw InputError(restart + ": the checkpoint holds the state of boundary condition " + std::to_string(i + 1) +
+                       ", which this case does not have");
+    e.conditions()[i]->restore_state(state);
+  }
+}
+
+// The input actually applied in a stage that plays ground motions: <out>/motion_<n>_<stage>.csv,
+// with each motion's acceleration, velocity and displacement after processing and scaling.
+void write_stage_motions(const Run& r, std::size_t index) {
+  const StageSpec& st = r.c.stages[index];
+  if (st.motions.empty()) return;
+  const fs::path path = r.out / ("motion_" + std::to_string(index + 1) + "_" + st.name + ".csv");
+  std::ofstream os(path);
+  os << "# rockdem: ground motions applied in stage '" << st.name << "' (time from the stage start)\n";
+  double duration = 0.0, dt = 1e300;
+  for (const auto& m : st.motions) {
+    const auto& mo = *r.c.motions[static_cast<std::size_t>(m.index)];
+    os << "# motion: " << mo.name << " | source: " << mo.source << " | type: " << seismic::motion_type_name(mo.type)
+       << " | direction: " << (mo.direction == 0 ? "x" : "y") << " | stage factor: " << m.factor
+       << " | PGA " << m.factor * mo.pga() << " m/s2, PGV " << m.factor * mo.pgv() << " m/s | processing: " << mo.processing << "\n";
+    duration = std::max(duration, mo.duration());
+    dt = std::min(dt, mo.dt);
+  }
+  os << "time_s";
+  for (const auto& m : st.motions) {
+    const std::string n = r.c.motions[static_cast<std::size_t>(m.index)]->name;
+    os << "," << n << "_acc_mps2," << n << "_vel_mps," << n << "_disp_m";
+  }
+  os << "\n";
+  os.precision(9);
+  const auto rows = static_cast<long>(std::llround(duration / dt));
+  for (long k = 0; k <= rows; ++k) {
+    const double t = static_cast<double>(k) * dt;
+    os << t;
+    for (const auto& m : st.motions) {
+      const auto& mo = *r.c.motions[static_cast<std::size_t>(m.index)];
+      os << "," << m.factor * mo.acceleration(t) << "," << m.factor * mo.velocity(t) << "," << m.factor * mo.displacement(t);
+    }
+    os << "\n";
+  }
+  if (!os) throw InputError("cannot write " + path.string());
+}
+
 // The checkpoint a restart continues from (<out>/stage_<n>_<name>.h5).
 void write_stage_checkpoint(const Run& r, std::size_t index) {
   const StageSpec& st = r.c.stages[index];
   write_checkpoint(r.c.model, (r.out / ("stage_" + std::to_string(index + 1) + "_" + st.name + ".h5")).string(),
-                   {{"stages_completed", static_cast<double>(index + 1)}});
+                   {{"stages_completed", static_cast<double>(index + 1)}}, condition_states(r.engine));
 }
 
 void run_stage(Run& r, const StageJointModels& joints, std::size_t index) {
@@ -163,6 +224,7 @@ void run_stage(Run& r, const StageJointModels& joints, std::size_t index) {
   excavate(r.c, r.engine.conditions(), r.c.stages[index], &relax);
   if (relax) r.engine.add_condition(std::move(relax));
   const StageRunner stage(r.c, r.engine, joints, index);
+  write_stage_motions(r, index);
   r.rec.stage_started(static_cast<int>(index) + 1, stage.spec().name);
   const long vtk_every = r.c.output.vtk_interval > 0 ? r.c.output.vtk_interval : std::max(100L, stage.planned_steps() / 25);
   r.progress.stage_started(r.engine, stage, index);
@@ -231,6 +293,7 @@ RunResult run_case(Case& c, const fs::path& out, bool quiet, const std::string& 
   VtkSeries vtk(out / "vtk");
   Progress progress(c, quiet);
   if (!restart.empty()) {
+    restore_condition_states(engine, restart);
     vtk.resume(c.model.time);
     progress.restarted(restart, first_stage);
   }

@@ -18,6 +18,12 @@ StageRunner::StageRunner(Case& c, Engine& e, const StageJointModels& joints, std
     : st_(c.stages[index]), e_(e) {
   joints.put_in_force(c, index);
   e.set_mass_scaling_dt(st_.mass_scaling_dt.value_or(c.settings.mass_scaling_dt));
+  // The stage's ground motions reach every condition before its setup, so that a stage with
+  // duration = "auto" lasts as long as its motions.
+  std::vector<BoundaryCondition::StageMotion> played;
+  for (const auto& m : st_.motions) played.push_back({c.motions[static_cast<std::size_t>(m.index)].get(), m.factor});
+  for (const auto& bc : e.conditions())
+    if (bc->active_in(st_.name)) bc->set_motions(played);
   e.begin_stage(st_.name, st_.damping);
   duration_ = st_.duration;
   if (st_.until == StageSpec::Until::duration && st_.auto_duration) {
