@@ -66,7 +66,6 @@ def main():
     fig.tight_layout()
     out = a.out or os.path.splitext(a.csv)[0] + ".png"
     fig.savefig(out, dpi=110)
-    print(out)
     return 0
 
 

@@ -46,10 +46,12 @@ const CommandRegistrar reg{Command{
       auto out = std::make_shared<std::string>();
       auto use_default = std::make_shared<bool>(false);
       auto quiet = std::make_shared<bool>(false);
+      auto no_plots = std::make_shared<bool>(false);
       sub.add_option("case", *file, "case file (TOML)");
       sub.add_option("--out", *out, "output folder (default: rockdem-output/<case name>)");
       sub.add_flag("--default", *use_default, "run the built-in direct-shear case (test 9, 3 MPa, Coulomb slip)");
       sub.add_flag("--quiet", *quiet, "no progress output");
+      sub.add_flag("--no-plots", *no_plots, "no figures of the ground motions applied (their CSV files are written all the same)");
       auto restart = std::make_shared<std::string>();
       sub.add_option("--restart", *restart,
                      "continue from a stage checkpoint (stage_<n>_<name>.h5) written by an earlier run of the same case");
@@ -69,7 +71,7 @@ const CommandRegistrar reg{Command{
       sub.add_option("--write-blocks", *write_blocks,
                      "build the model, write its blocks for inspection to this folder (blocks.vtu, traces.vtu, "
                      "blocks.csv) and stop without running");
-      return [file, out, use_default, quiet, restart, velocity, mass_dt, nstages, write_case, write_blocks]() -> int {
+      return [file, out, use_default, quiet, no_plots, restart, velocity, mass_dt, nstages, write_case, write_blocks]() -> int {
         if (file->empty() && !*use_default) throw InputError("rockdem run: give a case file, or --default for the built-in case");
         const bool lab = !*use_default && fs::exists(*file) && is_lab_test_file(*file);
         if (!lab && (!velocity->empty() || !mass_dt->empty() || *nstages > 0 || !write_case->empty()))
@@ -105,7 +107,7 @@ const CommandRegistrar reg{Command{
         if (!restart->empty() && !fs::exists(*restart))
           throw InputError("--restart " + *restart + ": checkpoint file does not exist");
         run_case(c, dir, *quiet, *restart);
-        if (!c.motions.empty()) plot_stage_motions(dir, *quiet);
+        if (!c.motions.empty() && !*no_plots) plot_stage_motions(dir, *quiet);
         return 0;
       };
     }}};

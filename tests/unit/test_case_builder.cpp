@@ -77,7 +77,7 @@ TEST(CaseBuilder, MistakesNameTheSpecsPlaceAndWhatIsValid) {
   CaseSpec s = two_blocks();
   s.boundaries[0].type = "glued";
   s.boundaries[0].type_where = "generator: boundary 1";
-  EXPECT_EQ(error_of(s), "generator: boundary 1: unknown boundary type 'glued'; valid: fixed, velocity, traction, in_situ, quiet");
+  EXPECT_EQ(error_of(s), "generator: boundary 1: unknown boundary type 'glued'; valid: fixed, velocity, traction, in_situ, quiet, seismic, free_field");
 
   s = two_blocks();
   s.histories[0].quantity = "stress";
