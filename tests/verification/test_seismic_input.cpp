@@ -416,3 +416,23 @@ TEST(SeismicInput, RigidBaseBecomingQuietHoldsTheBlockOnIt) {
   EXPECT_LT(held, 1e-6);
   EXPECT_GT(released, 1e-3);
 }
+
+TEST(SeismicInput, RigidBaseMovesWithAWithinRecord) {
+  // The column of verification 1 on a rigid base given the record as a within motion: the base
+  // gridpoints move with the record's (processed) displacement, whatever the column does above.
+  const fs::path dir = kCases / "seismic_column";
+  std::string text = replace(read_text(dir / "column.toml"), "type = \"outcrop\"", "type = \"within\"");
+  text = replace(text, "type = \"seismic\"\nblock = \"column\"\nface = \"bottom\"",
+                 "type = \"seismic\"\nbase = \"rigid\"\nblock = \"column\"\nface = \"bottom\"");
+  text += "\n[[histories]]\nname = \"base_x\"\nquantity = \"displacement_at\"\nat = [\"0 m\", \"0 m\"]\ncomponent = \"x\"\n";
+  Case c;
+  const RunResult r = run_text(text, dir, "rigid_base", &c);
+  const seismic::InputMotion& m = *c.motions.at(0);
+  const Series s = series(r.history, "base_x");
+  double worst = 0.0, peak = 0.0;
+  for (double d : m.disp) peak = std::max(peak, std::abs(d));
+  for (std::size_t i = 0; i < s.t.size(); ++i) worst = std::max(worst, std::abs(s.v[i] - m.displacement(s.t[i])));
+  std::cout << "rigid base against the record's displacement: largest difference " << worst / peak * 100
+            << " % of the peak " << peak << " m\n";
+  EXPECT_LT(worst / peak, 0.005);
+}
