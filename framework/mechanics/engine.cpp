@@ -242,7 +242,13 @@ void Engine::step() {
   m_.time += dt_;
   stage_time_ += dt_;
   ++m_.step;
-  if (++steps_since_refresh_ >= s_.refresh_interval) refresh_contacts();
+  // Stop at the first non-finite force, and never hand a non-finite position to the broad phase
+  // (its grid would have no size): the state check is cheap beside a contact refresh.
+  if (nonfinite_) check_state();
+  if (++steps_since_refresh_ >= s_.refresh_interval) {
+    check_state();
+    refresh_contacts();
+  }
 }
 
 void Engine::integrate() {
@@ -344,6 +350,9 @@ void Engine::integrate() {
     if (!(b.prescribed & Block::kDriveSpin) && ii > 0.0) b.omega += damp(mom, b.omega - smooth_w_[bi]) / ii * dt_;
   }
   ratio_ = applied_sum_ > 0.0 ? unbalanced / applied_sum_ : 0.0;
+  // A NaN or inf anywhere in the forces (a time function's sqrt(-1), an overflowing stiffness)
+  // shows in these sums, which are formed anyway: a free check every step.
+  nonfinite_ = !std::isfinite(unbalanced) || !std::isfinite(applied_sum_);
 }
 
 void Engine::run_steps(long n) {
