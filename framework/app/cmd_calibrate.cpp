@@ -72,7 +72,7 @@ const CommandRegistrar reg{Command{
           j["data"] = *data;
           if (!case_file->empty()) j["case"] = *case_file;
           j["notes"] = notes;
-          write_json_result(*json, j, "--data " + *data);
+          write_json_result(*json, j);
         }
         if (!*quiet) {
           std::printf("calibrate: %s (%zu rows, %zu stage(s)), model %s\n", data->c_str(), d.rows.size(), seg.stages.size(),

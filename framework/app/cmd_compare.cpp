@@ -107,7 +107,7 @@ const CommandRegistrar reg{Command{
           j["specimen"] = meta(d, "specimen");
           j["data_source"] = meta(d, "source");
           j["model_description"] = meta(m, "joint_model");
-          write_json_result(*json, j, "--data " + *data + " and the model record");
+          write_json_result(*json, j);
         }
         if (!*quiet) {
           std::printf("compare: %s (%zu rows, %zu stage(s)) vs model %s (%zu rows), aligned on shear displacement\n",

@@ -70,7 +70,7 @@ const CommandRegistrar reg{Command{
         nlohmann::json j = to_json(dg, *data);
         j["notes"] = notes;
         auto write_json = [&](const std::string& path) {
-          write_json_result(path, j, "--data " + *data);
+          write_json_result(path, j);
         };
         if (!json->empty()) write_json(*json);
         if (!*quiet) {
