@@ -30,6 +30,7 @@ variant law_typo "$incline" 's/law = "coulomb_slip"/law = "coulomb_slipp"/'
 expect law_typo 2 run "$tmp/law_typo.toml" --out "$tmp/o_law" --quiet -- "law_typo.toml" "did you mean 'coulomb_slip'?"
 variant key_typo "$incline" 's/^rounding = /roundin = /'
 expect key_typo 2 run "$tmp/key_typo.toml" --out "$tmp/o_key" --quiet -- "key_typo.toml:" "unknown key 'roundin'" "did you mean 'rounding'?"
+expect describe_typo 2 describe coulomb_slp -- "unknown name 'coulomb_slp' (did you mean 'coulomb_slip'?)"
 expect dem_case_to_element 2 element "$incline" --out "$tmp/e.csv" -- "incline.toml" "is a DEM case file" "rockdem run"
 
 # --- 1b. values that overflow on conversion, nonsense tolerances --------------------------------
