@@ -242,13 +242,10 @@ void Engine::step() {
   m_.time += dt_;
   stage_time_ += dt_;
   ++m_.step;
-  // Stop at the first non-finite force, and never hand a non-finite position to the broad phase
-  // (its grid would have no size): the state check is cheap beside a contact refresh.
+  // Stop at the first non-finite force. A non-finite position that no force has seen yet (a
+  // prescribed NaN velocity) is refused by the broad phase at the next refresh.
   if (nonfinite_) check_state();
-  if (++steps_since_refresh_ >= s_.refresh_interval) {
-    check_state();
-    refresh_contacts();
-  }
+  if (++steps_since_refresh_ >= s_.refresh_interval) refresh_contacts();
 }
 
 void Engine::integrate() {
