@@ -180,6 +180,13 @@ const CommandRegistrar reg{Command{
         if (!restart->empty() && *overwrite) throw InputError("--restart and --overwrite: a restart continues a folder, give one of them");
         prepare_output_folder(dir, !restart->empty() ? FolderUse::resume : *overwrite ? FolderUse::overwrite : FolderUse::fresh,
                               "--out");
+        // A restart continues this folder's run: the manifest of what came before is kept beside
+        // the new one (manifest_before_restart_<n>.json), not overwritten.
+        if (!restart->empty() && fs::exists(dir / "manifest.json")) {
+          int n = 1;
+          while (fs::exists(dir / ("manifest_before_restart_" + std::to_string(n) + ".json"))) ++n;
+          fs::copy_file(dir / "manifest.json", dir / ("manifest_before_restart_" + std::to_string(n) + ".json"));
+        }
         Manifest m;
         m.command_line = command_line();
         m.case_file = *use_default ? std::string("(built-in default case)") : *file;
