@@ -31,6 +31,8 @@ expect law_typo 2 run "$tmp/law_typo.toml" --out "$tmp/o_law" --quiet -- "law_ty
 variant key_typo "$incline" 's/^rounding = /roundin = /'
 expect key_typo 2 run "$tmp/key_typo.toml" --out "$tmp/o_key" --quiet -- "key_typo.toml:" "unknown key 'roundin'" "did you mean 'rounding'?"
 expect describe_typo 2 describe coulomb_slp -- "unknown name 'coulomb_slp' (did you mean 'coulomb_slip'?)"
+variant lab_syntax "$lab" 's/^law = "mohr_coulomb"/law = "mohr_coulomb/'
+expect lab_syntax_write_case 2 run "$tmp/lab_syntax.toml" --write-case "$tmp/w.toml" -- "lab_syntax.toml:" "TOML syntax error"
 expect dem_case_to_element 2 element "$incline" --out "$tmp/e.csv" -- "incline.toml" "is a DEM case file" "rockdem run"
 
 # --- 1b. values that overflow on conversion, nonsense tolerances --------------------------------
