@@ -10,6 +10,7 @@
 #include "framework/analysis/calibration.hpp"
 #include "framework/app/calibration_inputs.hpp"
 #include "framework/app/command.hpp"
+#include "framework/app/result_files.hpp"
 #include "framework/core/error.hpp"
 #include "framework/plugin_api/joint_law.hpp"
 
@@ -71,10 +72,7 @@ const CommandRegistrar reg{Command{
           j["data"] = *data;
           if (!case_file->empty()) j["case"] = *case_file;
           j["notes"] = notes;
-          std::ofstream out(*json);
-          if (!out) throw InputError(*json + ": cannot open for writing");
-          out << j.dump(2) << '\n';
-          if (!out) throw InputError(*json + ": write failed");
+          write_json_result(*json, j);
         }
         if (!*quiet) {
           std::printf("calibrate: %s (%zu rows, %zu stage(s)), model %s\n", data->c_str(), d.rows.size(), seg.stages.size(),

@@ -12,6 +12,7 @@
 
 #include "framework/analysis/compare.hpp"
 #include "framework/app/command.hpp"
+#include "framework/app/result_files.hpp"
 #include "framework/app/plot_scripts.hpp"
 #include "framework/core/error.hpp"
 #include "framework/lab/lab_case.hpp"
@@ -93,6 +94,8 @@ const CommandRegistrar reg{Command{
         } catch (const InputError& e) {
           throw InputError(*data + " vs " + model_name + ": " + e.what());
         }
+        // The table below and the JSON never show an RMSE of inf or nan.
+        require_finite_result(to_json(c), *data + " vs " + model_name);
         const auto t2 = std::chrono::steady_clock::now();
         const double ms_read = std::chrono::duration<double, std::milli>(t1 - t0).count();
         const double ms_cmp = std::chrono::duration<double, std::milli>(t2 - t1).count();
@@ -104,10 +107,7 @@ const CommandRegistrar reg{Command{
           j["specimen"] = meta(d, "specimen");
           j["data_source"] = meta(d, "source");
           j["model_description"] = meta(m, "joint_model");
-          std::ofstream out(*json);
-          if (!out) throw InputError(*json + ": cannot open for writing");
-          out << j.dump(2) << '\n';
-          if (!out) throw InputError(*json + ": write failed");
+          write_json_result(*json, j);
         }
         if (!*quiet) {
           std::printf("compare: %s (%zu rows, %zu stage(s)) vs model %s (%zu rows), aligned on shear displacement\n",

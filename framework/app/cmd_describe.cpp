@@ -3,8 +3,10 @@
 // files (so the documentation cannot drift from the code).
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include "framework/app/command.hpp"
+#include "framework/core/did_you_mean.hpp"
 #include "framework/core/error.hpp"
 #include "framework/plugin_api/joint_law.hpp"
 #include "framework/plugin_api/rock_material.hpp"
@@ -43,7 +45,10 @@ const CommandRegistrar reg{Command{
         } else if (const auto* m = RockMaterialRegistry::instance().find(*name)) {
           describe("rock material", *m);
         } else {
-          throw InputError("describe: unknown name '" + *name + "'; joint laws: " +
+          std::vector<std::string> all = JointLawRegistry::instance().names();
+          for (const auto& n : EffectRegistry::instance().names()) all.push_back(n);
+          for (const auto& n : RockMaterialRegistry::instance().names()) all.push_back(n);
+          throw InputError("describe: unknown name '" + *name + "'" + did_you_mean(*name, all) + "; joint laws: " +
                            JointLawRegistry::instance().names_joined() +
                            "; effects: " + EffectRegistry::instance().names_joined() +
                            "; rock materials: " + RockMaterialRegistry::instance().names_joined());

@@ -13,6 +13,7 @@
 #include "framework/analysis/diagnosis.hpp"
 #include "framework/app/calibration_inputs.hpp"
 #include "framework/app/command.hpp"
+#include "framework/app/result_files.hpp"
 #include "framework/app/plot_scripts.hpp"
 #include "framework/core/error.hpp"
 #include "framework/plugin_api/joint_law.hpp"
@@ -69,10 +70,7 @@ const CommandRegistrar reg{Command{
         nlohmann::json j = to_json(dg, *data);
         j["notes"] = notes;
         auto write_json = [&](const std::string& path) {
-          std::ofstream out(path);
-          if (!out) throw InputError(path + ": cannot open for writing");
-          out << j.dump(2) << '\n';
-          if (!out) throw InputError(path + ": write failed");
+          write_json_result(path, j);
         };
         if (!json->empty()) write_json(*json);
         if (!*quiet) {

@@ -26,11 +26,21 @@ const CommandRegistrar reg{Command{
       sub.add_flag("--quiet", *quiet, "no summary on standard output");
       return [file, out, quiet]() -> int {
         const LabTest c = read_lab_test(*file);
-        const ElementRun run = run_element_test(c);
+        const ElementRun run = [&] {
+          try {
+            return run_element_test(c);
+          } catch (const InputError& e) {
+            throw InputError(*file + ": " + e.what());
+          }
+        }();
         const MeasurementFile& mf = run.record;
         const double ms = run.wall_ms;
         const std::string path = out->empty() ? fs::path(*file).stem().string() + ".csv" : *out;
-        write_measurement_csv(path, mf);
+        try {
+          write_measurement_csv(path, mf);
+        } catch (const InputError& e) {
+          throw InputError(*file + ": " + e.what());
+        }
         if (!*quiet) {
           std::printf("%s: %s, %zu stage(s), %ld increments in %.1f ms -> %s (%zu rows)\n", c.specimen.c_str(),
                       c.model->description().c_str(), c.stages.size(), run.increments, ms, path.c_str(),

@@ -9,8 +9,10 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <sstream>
 
 #include "framework/app/command.hpp"
+#include "framework/io/output_folder.hpp"
 #include "framework/core/error.hpp"
 #include "framework/core/units.hpp"
 #include "framework/seismic/ground_motion.hpp"
@@ -90,9 +92,15 @@ bool any_processing(const Options& o) {
 }
 
 void write_drive(const std::string& path, const ProcessedMotion& m, const std::string& label,
-                 const std::string& processing, const std::string& source, const std::string& record) {
-  std::ofstream f(path);
-  if (!f) throw InputError("--out " + path + ": cannot write the drive file (does its folder exist?)");
+                 const std::string& processing, const std::string& source, const std::string& record,
+                 const std::string& record_file) {
+  // A drive with nan or inf rows would be read by the case readers as data: refuse it, naming the
+  // record (one overflowing sample, e.g. 1e308 g, spreads through the filters and integration).
+  for (std::size_t i = 0; i < m.disp.size(); ++i)
+    if (!std::isfinite(m.disp[i]) || !std::isfinite(m.time[i]))
+      throw InputError(record_file + ": the processed displacement is not finite at t = " + std::to_string(m.time[i]) +
+                       " s (a sample of the record is too large or not a number); nothing written to --out " + path);
+  std::ostringstream f;
   // Times on the sampling grid print exactly with 3 decimals for dt in whole milliseconds.
   const bool ms_grid = std::abs(m.dt * 1e3 - std::round(m.dt * 1e3)) < 1e-9;
   f << "# drive: " << label << "\n# processing: " << processing << "\n# source: " << source << "\n# record: " << record
@@ -102,7 +110,7 @@ void write_drive(const std::string& path, const ProcessedMotion& m, const std::s
     std::snprintf(buf, sizeof buf, ms_grid ? "%.3f,%.4f\n" : "%.6f,%.4f\n", m.time[i], m.disp[i] * 1e3);
     f << buf;
   }
-  if (!f) throw InputError("--out " + path + ": writing failed");
+  write_file_atomically(path, f.str());
 }
 
 int run(const Options& o, const CLI::App& sub) {
@@ -188,7 +196,7 @@ int run(const Options& o, const CLI::App& sub) {
     char dt[32];
     std::snprintf(dt, sizeof dt, "%.6g", g.dt);
     write_drive(o.out, m, label, p.describe(), g.source,
-                g.column_name + ", units " + layout.unit.text + ", dt " + dt + " s");
+                g.column_name + ", units " + layout.unit.text + ", dt " + dt + " s", o.record);
     std::printf("  -> %s\n", o.out.c_str());
   }
   return 0;

@@ -1,14 +1,23 @@
 // `rockdem run CASE.toml [--out DIR]`, or `--default` for the built-in direct-shear case. A
 // laboratory-test case file (framework/lab/lab_case.hpp) runs as its DEM specimen
 // (framework/lab/direct_shear_specimen.hpp).
+#include <algorithm>
+#include <chrono>
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <sstream>
+#include <vector>
 
 #include "framework/app/command.hpp"
 #include "framework/app/plot_scripts.hpp"
 #include "framework/simulation/run_case.hpp"
+#include "framework/app/cli_contract.hpp"
 #include "framework/core/error.hpp"
+#include "framework/core/interrupt.hpp"
+#include "framework/io/output_folder.hpp"
+#include "framework/io/toml_values.hpp"
 #include "framework/core/params.hpp"
 #include "framework/io/block_inspection.hpp"
 #include "framework/lab/direct_shear_specimen.hpp"
@@ -39,6 +48,84 @@ void plot_stage_motions(const fs::path& dir, bool quiet) {
   }
 }
 
+std::string read_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream os;
+  os << in.rdbuf();
+  return os.str();
+}
+
+// SIGINT/SIGTERM ask the stepping loop to stop after its current chunk of steps (run_case writes
+// the state and histories and throws Interrupted). A second signal ends the process at once.
+extern "C" void request_stop(int sig) {
+  interrupt_signal().store(sig);
+  std::signal(sig, SIG_DFL);
+}
+
+// The entries of `dir`, for a message ("history.h5, vtk/, ...").
+std::string folder_listing(const fs::path& dir) {
+  std::vector<std::string> names;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(dir, ec)) names.push_back(e.path().filename().string() + (e.is_directory(ec) ? "/" : ""));
+  std::sort(names.begin(), names.end());
+  std::string s;
+  for (const auto& n : names) s += (s.empty() ? "" : ", ") + n;
+  return s.empty() ? "nothing" : s;
+}
+
+// Records how a failed run ended; a write failure here (the disk that stopped the run may be
+// full) is reported but does not hide the error that ended the run.
+template <class Record>
+void record_after_error(Record& record, const std::string& status, int code) {
+  try {
+    record(status, code);
+  } catch (const std::exception& e) {
+    std::cerr << "rockdem: could not record the end of the run in the manifest: " << e.what() << "\n";
+  }
+}
+
+// Runs the case and records its end (time, status, exit code) in the manifest and in the root
+// attributes of the history files this run wrote, whatever way the run ends.
+int run_with_manifest(Case& c, const fs::path& dir, bool quiet, const std::string& restart, Manifest& m) {
+  const auto started = fs::file_time_type::clock::now() - std::chrono::seconds(1);
+  auto record = [&](const std::string& status, int code) {
+    m.ended_utc = utc_now();
+    m.status = status;
+    m.exit_code = code;
+    write_manifest(dir, m);
+    std::error_code ec;
+    for (const auto& e : fs::directory_iterator(dir, ec)) {
+      const std::string name = e.path().filename().string();
+      if (name.rfind("history", 0) == 0 && e.path().extension() == ".h5" && fs::last_write_time(e.path(), ec) >= started)
+        stamp_hdf5(e.path(), m);
+    }
+  };
+  std::signal(SIGINT, request_stop);
+  std::signal(SIGTERM, request_stop);
+  try {
+    run_case(c, dir, quiet, restart);
+  } catch (const Interrupted& e) {
+    record_after_error(record, "interrupted", e.exit_code());
+    throw;
+  } catch (const InstabilityError&) {
+    record_after_error(record, "unstable", 3);
+    throw;
+  } catch (const InputError&) {
+    record_after_error(record, "failed", 2);
+    throw;
+  } catch (const std::exception& e) {
+    // A write failure (disk full, permission): say what is left in the folder.
+    record_after_error(record, "failed", 1);
+    throw std::runtime_error(std::string(e.what()) + "\n  the run stopped at step " + std::to_string(c.model.step) +
+                             " (time " + std::to_string(c.model.time) + " s); kept in " + dir.string() + ": " +
+                             folder_listing(dir) + " (the file being written may be incomplete)");
+  }
+  std::signal(SIGINT, SIG_DFL);
+  std::signal(SIGTERM, SIG_DFL);
+  record("finished", 0);
+  return 0;
+}
+
 const CommandRegistrar reg{Command{
     "run", "run a DEM case file (or the built-in default direct-shear case)", false,
     [](CLI::App& sub) {
@@ -52,6 +139,9 @@ const CommandRegistrar reg{Command{
       sub.add_flag("--default", *use_default, "run the built-in direct-shear case (test 9, 3 MPa, Coulomb slip)");
       sub.add_flag("--quiet", *quiet, "no progress output");
       sub.add_flag("--no-plots", *no_plots, "no figures of the ground motions applied (their CSV files are written all the same)");
+      auto overwrite = std::make_shared<bool>(false);
+      sub.add_flag("--overwrite", *overwrite,
+                   "empty a non-empty --out folder first (only one an earlier rockdem run wrote, with a manifest.json)");
       auto restart = std::make_shared<std::string>();
       sub.add_option("--restart", *restart,
                      "continue from a stage checkpoint (stage_<n>_<name>.h5) written by an earlier run of the same case");
@@ -71,10 +161,14 @@ const CommandRegistrar reg{Command{
       sub.add_option("--write-blocks", *write_blocks,
                      "build the model, write its blocks for inspection to this folder (blocks.vtu, traces.vtu, "
                      "blocks.csv) and stop without running");
-      return [file, out, use_default, quiet, no_plots, restart, velocity, mass_dt, nstages, write_case, write_blocks]() -> int {
+      return [file, out, use_default, quiet, no_plots, overwrite, restart, velocity, mass_dt, nstages, write_case,
+              write_blocks]() -> int {
         if (file->empty() && !*use_default) throw InputError("rockdem run: give a case file, or --default for the built-in case");
         const bool lab = !*use_default && fs::exists(*file) && is_lab_test_file(*file);
-        if (!lab && (!velocity->empty() || !mass_dt->empty() || *nstages > 0 || !write_case->empty()))
+        const bool lab_options = !velocity->empty() || !mass_dt->empty() || *nstages > 0 || !write_case->empty();
+        // A syntax error is the message to give, not "these options apply to laboratory-test cases".
+        if (!lab && lab_options && !*use_default) parse_toml_file(*file, "case file");
+        if (!lab && lab_options)
           throw InputError("rockdem run: --shear-velocity, --mass-scaling-dt, --stages and --write-case apply to laboratory-test "
                            "case files ([joint] and [[stage]] tables, e.g. cases/direct_shear/test09_mohr_coulomb.toml)");
         Case c;
@@ -106,9 +200,27 @@ const CommandRegistrar reg{Command{
         const fs::path dir = out->empty() ? fs::path("rockdem-output") / stem : fs::path(*out);
         if (!restart->empty() && !fs::exists(*restart))
           throw InputError("--restart " + *restart + ": checkpoint file does not exist");
-        run_case(c, dir, *quiet, *restart);
-        if (!c.motions.empty() && !*no_plots) plot_stage_motions(dir, *quiet);
-        return 0;
+        if (!restart->empty() && *overwrite) throw InputError("--restart and --overwrite: a restart continues a folder, give one of them");
+        prepare_output_folder(dir, !restart->empty() ? FolderUse::resume : *overwrite ? FolderUse::overwrite : FolderUse::fresh,
+                              "--out");
+        // A restart continues this folder's run: the manifest of what came before is kept beside
+        // the new one (manifest_before_restart_<n>.json), not overwritten.
+        if (!restart->empty() && fs::exists(dir / "manifest.json")) {
+          int n = 1;
+          while (fs::exists(dir / ("manifest_before_restart_" + std::to_string(n) + ".json"))) ++n;
+          fs::copy_file(dir / "manifest.json", dir / ("manifest_before_restart_" + std::to_string(n) + ".json"));
+        }
+        Manifest m;
+        m.command_line = command_line();
+        m.case_file = *use_default ? std::string("(built-in default case)") : *file;
+        m.case_text = *use_default ? std::string(kDefaultCaseText) : read_text(*file);
+        for (const auto& st : c.stages) m.stages.push_back(st.name);
+        m.restart = *restart;
+        m.started_utc = utc_now();
+        write_manifest(dir, m);
+        const int rc = run_with_manifest(c, dir, *quiet, *restart, m);
+        if (rc == 0 && !c.motions.empty() && !*no_plots) plot_stage_motions(dir, *quiet);
+        return rc;
       };
     }}};
 

@@ -6,6 +6,8 @@
 #include <cstdlib>
 #include <stdexcept>
 
+#include "rockdem_version.hpp"
+
 extern char** environ;
 
 namespace rockdem {
@@ -19,11 +21,18 @@ fs::path find_plot_script(const std::string& name, const char* env_var, const st
   const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
   if (!ec) {
     for (fs::path dir = exe.parent_path(); !dir.empty(); dir = dir.parent_path()) {
-      tried.push_back(dir / "scripts" / name);
-      if (fs::exists(tried.back())) return tried.back();
+      // scripts/ beside a build in the source tree; share/rockdem/scripts/ of an installed one
+      // (bin/rockdem, `cmake --install`).
+      for (const fs::path& p : {dir / "scripts" / name, dir / "share" / "rockdem" / "scripts" / name}) {
+        tried.push_back(p);
+        if (fs::exists(p)) return p;
+      }
       if (dir == dir.root_path()) break;
     }
   }
+  // The source tree this binary was built from, for a build folder outside it.
+  tried.push_back(fs::path(ROCKDEM_SOURCE_DIR) / "scripts" / name);
+  if (fs::exists(tried.back())) return tried.back();
   tried.push_back(fs::current_path() / "scripts" / name);
   if (fs::exists(tried.back())) return tried.back();
   std::string where;

@@ -96,7 +96,12 @@ TimeFunction TimeFunction::expression(const std::string& expr) {
     f.expr_->parser.DefineConst("pi", std::numbers::pi);
     f.expr_->parser.DefineConst("g", 9.80665);
     f.expr_->parser.SetExpr(expr);
-    f.expr_->parser.Eval();
+    // A value that is NaN or inf at the start (sqrt(-1), 1/0) is refused here; one that becomes
+    // non-finite later is stopped by the engine's per-step check (exit 3).
+    const double v0 = f.expr_->parser.Eval();
+    if (!std::isfinite(v0))
+      throw InputError("expression '" + expr + "' is " + (std::isnan(v0) ? "not a number" : "infinite") +
+                       " at t = 0 s; valid: an expression finite over the stage");
   } catch (const mu::Parser::exception_type& e) {
     throw InputError("expression '" + expr + "': " + e.GetMsg() +
                      " (variables: t [s]; constants: pi, g; functions: sin, cos, exp, abs, ...)");

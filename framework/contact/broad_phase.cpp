@@ -4,8 +4,10 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <string>
 
 #include "framework/contact/detection.hpp"
+#include "framework/core/error.hpp"
 
 namespace rockdem {
 namespace {
@@ -83,6 +85,12 @@ void broad_phase_pairs(const Model& m, double margin, std::vector<std::pair<int,
     mean_size += (box.hi - box.lo).maxCoeff();
   }
   mean_size /= nb;
+  // A non-finite box would make the grid below infinitely large (its sizing loop never ends and
+  // the cell arrays grow without bound); the engine stops such a state first, this is the guard.
+  if (!all.lo.allFinite() || !all.hi.allFinite() || !std::isfinite(mean_size))
+    throw InstabilityError("contact detection: a block has a non-finite or overflowing position (extent " +
+                           std::to_string(all.hi.x() - all.lo.x()) + " m by " + std::to_string(all.hi.y() - all.lo.y()) +
+                           " m); check stiffnesses, sizes, time functions and the time step");
   // Cells about the mean block size, so that each block covers a few cells and each cell holds a
   // few blocks; no more cells than 4 per block, so that a sparse model (a few blocks far apart)
   // does not get a huge empty grid.

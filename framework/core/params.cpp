@@ -2,6 +2,7 @@
 
 #include <sstream>
 
+#include "framework/core/did_you_mean.hpp"
 #include "framework/core/names.hpp"
 
 namespace rockdem {
@@ -62,6 +63,8 @@ double quantity_value(const RawValue& raw, Dimension d, const std::string& subje
                      (d == Dimension::dimensionless ? std::string() :
                       " with a unit, as a string like \"1.5 " + std::string(si_unit(d)) + "\""));
   }
+  // TOML allows nan and inf literals; no rockdem quantity means them.
+  if (!std::isfinite(v)) throw InputError(raw.where + ": " + subject + " must be a finite number, not " + num(v));
   if (d != Dimension::dimensionless) {
     throw InputError(raw.where + ": " + subject + " = " + num(v) + " has no unit; a " +
                      std::string(dimension_name(d)) + " is written as a string with one of: " +
@@ -106,7 +109,7 @@ void check_known_keys(const RawValues& values, const std::vector<ParamInfo>& inf
     for (const auto& i : infos) known = known || i.name == key;
     if (!known) {
       throw InputError(raw.where + ": unknown parameter '" + key + "' for " + owner +
-                       "; valid parameters: " + join_names(infos, &ParamInfo::name));
+                       did_you_mean(key, infos, &ParamInfo::name) + "; valid parameters: " + join_names(infos, &ParamInfo::name));
     }
   }
 }

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "framework/core/did_you_mean.hpp"
 #include "framework/core/error.hpp"
 #include "framework/core/names.hpp"
 #include "framework/core/params.hpp"
@@ -45,11 +46,14 @@ class NamedTable {
     auto it = entries_.find(name);
     return it == entries_.end() ? nullptr : &it->second.entry;
   }
-  // Throws "<where>: unknown <what> '<name>'; <valid><the names>" when the name is unknown.
+  // Throws "<where>: unknown <what> '<name>' (did you mean '<nearest>'?); <valid><the names>"
+  // when the name is unknown (the did-you-mean only when a valid name is close).
   const Entry& get(const std::string& name, const std::string& what, const std::string& where,
                    const std::string& valid = "valid names: ") const {
     if (const Entry* e = find(name)) return *e;
-    throw InputError(where + ": unknown " + what + " '" + name + "'; " + valid + names_joined());
+    throw InputError(where + ": unknown " + what + " '" + name + "'" +
+                     did_you_mean(name, order_, [](const Listed& l) -> const std::string& { return l.name; }) +
+                     "; " + valid + names_joined());
   }
   // The entries in listing order: `for (const auto& [name, entry] : table.entries())`.
   struct Listed {

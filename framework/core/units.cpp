@@ -3,6 +3,7 @@
 #include <array>
 #include <charconv>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <sstream>
 
@@ -137,7 +138,16 @@ double parse_quantity(std::string_view text, Dimension want) {
                          ", but a " + std::string(dimension_name(want)) +
                          " is expected (valid units: " + std::string(units_for(want)) + ")");
       }
-      return value * u.to_si;
+      // One central check: a value that is finite as written can still overflow on conversion
+      // ("1e308 GPa/m"), and an inf stiffness or size later makes the engine loop or allocate
+      // without bound, so it is refused here for every key read with a unit.
+      const double si = value * u.to_si;
+      if (!std::isfinite(si)) {
+        throw InputError("'" + std::string(text) + "' overflows when converted to " +
+                         std::string(si_unit(want)) + "; the largest magnitude is about " +
+                         round_trip_text(std::numeric_limits<double>::max() / u.to_si) + " " + std::string(unit));
+      }
+      return si;
     }
   }
   throw InputError("unknown unit '" + std::string(unit) + "'; for a " +

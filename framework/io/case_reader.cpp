@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <filesystem>
 
+#include "framework/core/did_you_mean.hpp"
 #include "framework/core/error.hpp"
 #include "framework/core/names.hpp"
 #include "framework/core/units.hpp"
@@ -37,7 +38,8 @@ struct Reader {
     for (auto&& [k, v] : t) {
       if (std::find(allowed.begin(), allowed.end(), k.str()) == allowed.end()) {
         throw InputError(at(v, path + "." + std::string(k.str())) + ": unknown key '" + std::string(k.str()) +
-                         "' in [" + path + "]; valid keys: " + join_names(allowed));
+                         "' in [" + path + "]" + did_you_mean(k.str(), allowed) +
+                         "; valid keys: " + join_names(allowed));
       }
     }
   }
@@ -476,6 +478,9 @@ ModelSettingsSpec CaseReader::model_settings(const toml::table& t) const {
   ModelSettingsSpec s;
   s.rounding = r.positive(t, "rounding", Dimension::length, "model", s.rounding);
   s.tolerance = r.quantity(t, "detection_tolerance", Dimension::length, "model", s.tolerance);
+  if (s.tolerance < 0.0)
+    throw InputError(r.at(*t.get("detection_tolerance"), "model.detection_tolerance") + ": must not be negative, got " +
+                     format_quantity(s.tolerance, Dimension::length) + "; valid: 0 or more, e.g. \"1 mm\"");
   if (const auto* g = r.array(t, "gravity")) {
     if (g->size() != 2) throw InputError(r.at(*g, "model.gravity") + ": expected [gx, gy] with units");
     s.gravity = Vec2(r.quantity(*g->get(0), Dimension::acceleration, "model.gravity"),

@@ -13,6 +13,7 @@
 #include <string_view>
 
 #include "framework/core/error.hpp"
+#include "framework/io/output_folder.hpp"
 
 namespace rockdem {
 namespace {
@@ -49,6 +50,17 @@ void append_number(std::string& out, double v) {
 }  // namespace
 
 void write_measurement_csv(const std::string& path, const MeasurementFile& f) {
+  // A record with nan or inf in it reads as data to every tool after this one; refuse it here,
+  // for every command that writes one, and say where the first bad value is.
+  for (std::size_t i = 0; i < f.rows.size(); ++i) {
+    const MeasurementRow& r = f.rows[i];
+    const std::array<std::pair<const char*, double>, 5> v{{{"time_s", r.time_s}, {"normal_stress_MPa", r.normal_stress_MPa},
+        {"shear_disp_mm", r.shear_disp_mm}, {"shear_stress_MPa", r.shear_stress_MPa}, {"normal_disp_mm", r.normal_disp_mm}}};
+    for (const auto& [name, x] : v)
+      if (!std::isfinite(x))
+        throw InputError(path + ": not written: row " + std::to_string(i + 1) + " has " + name + " = " + std::to_string(x) +
+                         " (a stiffness, amplitude or drive value in the input overflows); valid: inputs whose results stay finite");
+  }
   // A row with fewer values than the header would make a file the reader rejects: refuse early.
   if (!f.extra_columns.empty() && f.extra.size() != f.rows.size()) {
     throw InputError(path + ": " + std::to_string(f.rows.size()) + " rows but " + std::to_string(f.extra.size()) +
@@ -99,11 +111,9 @@ void write_measurement_csv(const std::string& path, const MeasurementFile& f) {
     }
     out += '\n';
   }
-  std::FILE* fp = std::fopen(path.c_str(), "wb");
-  if (!fp) throw InputError(path + ": cannot open for writing");
-  const std::size_t n = std::fwrite(out.data(), 1, out.size(), fp);
-  const bool ok = n == out.size() && std::fclose(fp) == 0;
-  if (!ok) throw InputError(path + ": write failed (disk full or no permission?)");
+  // Through a temporary file and a rename: a full disk or a kill leaves the old file or none,
+  // never a truncated record that reads as a shorter test.
+  write_file_atomically(path, out);
 }
 
 CsvTable read_csv_table(const std::string& path, const std::vector<std::string>& required, const std::string& what) {
@@ -190,6 +200,16 @@ MeasurementFile read_measurement_csv(const std::string& path) {
   const CsvTable t = read_csv_table(path, std::vector<std::string>(kColumns.begin(), kColumns.end()), "measurement file");
   MeasurementFile f;
   f.metadata = t.metadata;
+  // Metadata the tools read as numbers is checked here, once, so that a bad value is named with
+  // its file instead of surfacing later as a bare "stod" from whichever tool reads it.
+  for (const auto& [key, value] : f.metadata) {
+    if (key != "joint_length_m") continue;
+    double v = 0.0;
+    const auto [ptr, ec] = std::from_chars(value.data(), value.data() + value.size(), v);
+    if (ec != std::errc() || ptr != value.data() + value.size() || !std::isfinite(v) || !(v > 0.0))
+      throw InputError(path + ": metadata '# " + key + ": " + value + "' must be a positive number of metres, e.g. '# " +
+                       key + ": 0.1'");
+  }
   std::array<std::size_t, 6> col{};
   for (std::size_t c = 0; c < kColumns.size(); ++c) col[c] = static_cast<std::size_t>(t.column(std::string(kColumns[c])));
   std::vector<std::size_t> extra_pos;

@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "framework/core/error.hpp"
+#include "framework/core/units.hpp"
 
 namespace rockdem {
 
@@ -47,6 +48,17 @@ namespace {
 // since the stage start at the end of the increment, computed from the path (not summed), so
 // that segment ends fall exactly on the path's times. No allocation. The path starts where the
 // joint is: if that is not the path's first point, a straight move to it comes first.
+// The most increments one run may take. Each becomes a row of the record (about 100 bytes with
+// its extra columns), so 1e7 is about 1 GB: far above any laboratory path at the default step
+// (test 9: thousands), and a tiny step or a huge amplitude is refused before anything allocates.
+constexpr double kMaxIncrements = 1e7;
+
+InputError too_many_increments(double n, double max_step) {
+  return InputError("the shear path takes " + format_quantity(n, Dimension::dimensionless) + " increments at a step of " +
+                    format_quantity(max_step, Dimension::length) + "; valid: at most 1e7 increments in a run: use a larger " +
+                    "[element] step or a shorter path (amplitudes, cycles, drive values)");
+}
+
 template <class Fn>
 void for_each_increment(const ShearPath& path, double u0, double max_step, Fn&& fn) {
   double u = u0;
@@ -61,6 +73,7 @@ void for_each_increment(const ShearPath& path, double u0, double max_step, Fn&& 
       return;
     }
     const double nd = std::ceil(dist / max_step * (1.0 - 1e-12));
+    if (!(nd <= kMaxIncrements)) throw too_many_increments(nd, max_step);
     const long n = std::max(1L, static_cast<long>(nd));
     const double start = u, t_start = t;
     double prev = start, t_prev = t_start;
@@ -92,7 +105,9 @@ void for_each_increment(const ShearPath& path, double u0, double max_step, Fn&& 
       const double w = 2.0 * std::numbers::pi * path.frequency;
       const double duration = path.count / path.frequency;
       const double travel = 4.0 * path.amplitude * path.count;  // path length of the sinusoid
-      const long n = std::max(1L, static_cast<long>(std::ceil(travel * (std::numbers::pi / 2) / max_step)));
+      const double nd = std::ceil(travel * (std::numbers::pi / 2) / max_step);
+      if (!(nd <= kMaxIncrements)) throw too_many_increments(nd, max_step);
+      const long n = std::max(1L, static_cast<long>(nd));
       double prev = 0.0, t_prev = t;
       for (long i = 1; i <= n; ++i) {
         const double ti = t + duration * static_cast<double>(i) / static_cast<double>(n);
@@ -139,7 +154,9 @@ void ElementDriver::reset() {
 
 long ElementDriver::count_increments(const ShearPath& path) const {
   long n = 0;
-  for_each_increment(path, load_point(), opt_.max_step, [&](double, double, double) { ++n; });
+  for_each_increment(path, load_point(), opt_.max_step, [&](double, double, double) {
+    if (static_cast<double>(++n) > kMaxIncrements) throw too_many_increments(static_cast<double>(n), opt_.max_step);
+  });
   return n;
 }
 
@@ -325,7 +342,13 @@ void ElementDriver::append_row(MeasurementFile& out, int stage) const {
 void ElementDriver::run(const std::vector<ElementStage>& stages, MeasurementFile& out, int first_stage_number) {
   if (out.extra_columns.empty()) out.extra_columns = {"dilation_mm", "dissipated_J_per_m2"};
   long total = 0;
-  for (const auto& st : stages) total += count_increments(st.path) / opt_.output_every + 2;
+  double increments = 0.0;
+  for (const auto& st : stages) {
+    const long n = count_increments(st.path);
+    increments += static_cast<double>(n);
+    total += n / opt_.output_every + 2;
+  }
+  if (increments > kMaxIncrements) throw too_many_increments(increments, opt_.max_step);
   out.rows.reserve(out.rows.size() + static_cast<std::size_t>(total));
   out.extra.reserve(out.extra.size() + static_cast<std::size_t>(total));
   int number = first_stage_number;

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "framework/core/did_you_mean.hpp"
 #include "framework/core/error.hpp"
 #include "framework/core/names.hpp"
 #include "framework/core/units.hpp"
@@ -145,7 +146,7 @@ void check_keys(const toml::table& t, const std::string& file, const std::string
     if (std::find(allowed.begin(), allowed.end(), k.str()) != allowed.end()) continue;
     throw InputError(where_of(node, file, path.empty() ? std::string(k.str()) : path + "." + std::string(k.str())) +
                      ": unknown key '" + std::string(k.str()) + "'" + (path.empty() ? "" : " in [" + path + "]") +
-                     "; valid keys: " + join_names(allowed));
+                     did_you_mean(k.str(), allowed) + "; valid keys: " + join_names(allowed));
   }
 }
 
@@ -404,6 +405,13 @@ LabTest read_lab_test(const std::string& file) {
   const toml::table root = parse_toml_file(file, "case file");
   LabTest c;
   c.file = file;
+  // The two dialects: a DEM case ([[blocks]]/[rock_mass], [[stages]]) runs with `rockdem run`;
+  // say so rather than "unknown key 'blocks'".
+  for (const char* dem_key : {"blocks", "rock_mass", "stages", "joints"})
+    if (root.contains(dem_key))
+      throw InputError(file + ": this is a DEM case file (it has [" + std::string(dem_key) + "]); run it with `rockdem run " +
+                       file + "`. This command takes a laboratory-test case file ([joint] and [[stage]] tables, e.g. "
+                       "cases/direct_shear/test09_mohr_coulomb.toml)");
   check_keys(root, file, "", {"title", "specimen", "element", "dem", "joint", "stage"});
   if (const auto* tn = root.get("title")) {
     if (!tn->is_string()) throw InputError(where_of(*tn, file, "title") + ": title must be a string");

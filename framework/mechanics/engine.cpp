@@ -268,6 +268,9 @@ void Engine::step() {
   m_.time += dt_;
   stage_time_ += dt_;
   ++m_.step;
+  // Stop at the first non-finite force. A non-finite position that no force has seen yet (a
+  // prescribed NaN velocity) is refused by the broad phase at the next refresh.
+  if (nonfinite_) check_state();
   if (++steps_since_refresh_ >= s_.refresh_interval) refresh_contacts();
 }
 
@@ -370,6 +373,9 @@ void Engine::integrate() {
     if (!(b.prescribed & Block::kDriveSpin) && ii > 0.0) b.omega += damp(mom, b.omega - smooth_w_[bi]) / ii * dt_;
   }
   ratio_ = applied_sum_ > 0.0 ? unbalanced / applied_sum_ : 0.0;
+  // A NaN or inf anywhere in the forces (a time function's sqrt(-1), an overflowing stiffness)
+  // shows in these sums, which are formed anyway: a free check every step.
+  nonfinite_ = !std::isfinite(unbalanced) || !std::isfinite(applied_sum_);
 }
 
 void Engine::run_steps(long n) {

@@ -104,6 +104,7 @@ class Engine {
   double block_ratio_ = 0.0;
   int worst_block_ = 0;
   double applied_sum_ = 0.0;
+  bool nonfinite_ = false;  // the last step's force sums were NaN or inf
   std::vector<double> inertial_mass_;      // per gridpoint (after mass scaling)
   std::vector<double> dashpot_;            // per gridpoint: viscous boundaries' dashpots [N s/m per m]
   std::vector<double> block_mass_, block_inertia_;

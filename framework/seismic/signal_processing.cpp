@@ -19,7 +19,20 @@ void check_dt(double dt, const char* who) {
     throw InputError(std::string(who) + ": time step " + format_quantity(dt, Dimension::time) + " must be positive");
 }
 
-std::size_t samples(double seconds, double dt) { return static_cast<std::size_t>(std::lround(seconds / dt)); }
+// A length in samples. The ratio is checked in floating point before it is rounded: with a tiny
+// dt, lround(2 s / 1e-300 s) overflows, and the garbage it returns passed the later length
+// checks and the taper wrote past the end of its vector. 1e9 samples (8 GB of doubles) is far
+// beyond any record and keeps 2 * m and nb + n + na free of overflow.
+std::size_t samples(double seconds, double dt, const char* who) {
+  constexpr double kMaxSamples = 1e9;
+  const double r = seconds / dt;
+  if (!(r >= 0.0 && r <= kMaxSamples)) {
+    throw InputError(std::string(who) + " of " + format_quantity(seconds, Dimension::time) + " at a time step of " +
+                     format_quantity(dt, Dimension::time) + " is " + format_quantity(r, Dimension::dimensionless) +
+                     " samples; valid: at most 1e9 samples");
+  }
+  return static_cast<std::size_t>(std::lround(r));
+}
 
 }  // namespace
 
@@ -65,8 +78,8 @@ void cosine_taper(std::vector<double>& x, double dt, double length) {
   check_dt(dt, "taper");
   if (length < 0.0)
     throw InputError("taper length " + format_quantity(length, Dimension::time) + " must not be negative");
-  const std::size_t m = samples(length, dt);
-  if (2 * m > x.size()) {
+  const std::size_t m = samples(length, dt, "--taper");
+  if (m > x.size() / 2) {
     throw InputError(
         "taper of " + format_quantity(length, Dimension::time) + " at both ends is longer than the signal (" +
         format_quantity(dt * static_cast<double>(x.size()), Dimension::time) + "); valid: at most half its length");
@@ -81,7 +94,7 @@ void cosine_taper(std::vector<double>& x, double dt, double length) {
 std::vector<double> zero_pad(std::span<const double> x, double dt, double before, double after) {
   check_dt(dt, "zero padding");
   if (before < 0.0 || after < 0.0) throw InputError("zero pads must not be negative");
-  const std::size_t nb = samples(before, dt), na = samples(after, dt);
+  const std::size_t nb = samples(before, dt, "--pad"), na = samples(after, dt, "--pad");
   std::vector<double> out(nb + x.size() + na, 0.0);
   std::copy(x.begin(), x.end(), out.begin() + static_cast<std::ptrdiff_t>(nb));
   return out;

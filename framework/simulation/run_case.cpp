@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "framework/core/error.hpp"
+#include "framework/core/interrupt.hpp"
 #include "framework/io/checkpoint.hpp"
 #include "framework/io/vtk_output.hpp"
 #include "framework/mechanics/engine.hpp"
@@ -55,6 +56,9 @@ CheckpointScalars read_after_excavations(Case& c, const std::string& restart) {
       ++done;
     }
   }
+  if (extra.count("interrupted"))
+    throw InputError(restart + ": the state of an interrupted run, kept for inspection; restarts continue from the end of "
+                     "a stage (the stage_<n>_<name>.h5 files in the same folder)");
   const auto it = extra.find("stages_completed");
   const double completed = it == extra.end() ? 0.0 : it->second;
   for (std::size_t k = 0; k < c.stages.size(); ++k)
@@ -69,6 +73,9 @@ CheckpointScalars read_after_excavations(Case& c, const std::string& restart) {
 std::size_t read_restart(Case& c, const std::string& restart) {
   if (restart.empty()) return 0;
   const auto extra = read_after_excavations(c, restart);
+  if (extra.count("interrupted"))
+    throw InputError(restart + ": the state of an interrupted run, kept for inspection; restarts continue from the end of "
+                     "a stage (the stage_<n>_<name>.h5 files in the same folder)");
   const auto it = extra.find("stages_completed");
   if (it == extra.end() || it->second < 1 || it->second > static_cast<double>(c.stages.size()))
     throw InputError(restart + ": not a stage checkpoint of this case (valid: the stage_<n>_<name>.h5 files a run of it writes)");
@@ -232,13 +239,20 @@ void run_stage(Run& r, const StageJointModels& joints, std::size_t index) {
   r.rec.sample();
   r.progress.stepping_started();
   const long chunk = 10;
+  auto last_flush = Clock::now();
   for (long n = 0; !stage.done(n);) {
     r.engine.run_steps(chunk);
     n += chunk;
     if (n % r.c.output.history_interval < chunk) r.rec.sample();
     if (n % vtk_every < chunk) r.vtk.write(r.c.model);
-    // The history on disk keeps up with what the user has been shown.
-    if (r.progress.steps_done(r.engine, stage, n)) r.rec.flush();
+    // The history on disk keeps up with what the user has been shown, and, quiet or not, is never
+    // more than a few seconds behind, so a killed run leaves a readable history.
+    const bool shown = r.progress.steps_done(r.engine, stage, n);
+    if (shown || Clock::now() - last_flush > std::chrono::seconds(2)) {
+      r.rec.flush();
+      last_flush = Clock::now();
+    }
+    if (const int sig = interrupt_signal().load()) throw Interrupted(sig, "");
   }
   r.rec.sample();
   r.vtk.write(r.c.model);
@@ -261,6 +275,29 @@ InstabilityError stopped_unstable(Run& r, const InstabilityError& e) {
   }
   return InstabilityError(std::string(e.what()) + "\n  last good state (step " + std::to_string(r.c.model.step) +
                           ") written to " + path + " and " + (r.out / "vtk").string() + record);
+}
+
+// After SIGINT/SIGTERM (between two chunks of steps): writes the state reached, the histories so
+// far and the joint record so far, and returns the error to throw, saying how to go on.
+Interrupted stopped_by_signal(Run& r, int sig, std::size_t stage_index) {
+  const auto path = (r.out / "interrupted_state.h5").string();
+  write_checkpoint(r.c.model, path, {{"stages_completed", static_cast<double>(stage_index)}, {"interrupted", 1.0}});
+  r.vtk.write(r.c.model);
+  r.rec.close();
+  if (DirectShearRecorder* ds = r.rec.direct_shear()) ds->write_incomplete(r.out);
+  // Restarts continue from the end of a stage (read_restart), so the way on is the last stage
+  // checkpoint; the interrupted state is kept for inspection.
+  std::string how;
+  if (stage_index == 0) {
+    how = "no stage was completed; run the case again to start over";
+  } else {
+    const std::string cp = (r.out / ("stage_" + std::to_string(stage_index) + "_" + r.c.stages[stage_index - 1].name + ".h5")).string();
+    how = "to go on from the last completed stage, run the same case again with --out " + r.out.string() + " --restart " + cp;
+  }
+  return Interrupted(sig, std::string(sig == 2 ? "interrupted (SIGINT)" : "terminated (SIGTERM)") + " at step " +
+                              std::to_string(r.c.model.step) + " (time " + std::to_string(r.c.model.time) + " s) in stage " +
+                              std::to_string(stage_index + 1) + " '" + r.c.stages[stage_index].name + "'; state written to " +
+                              path + ", histories so far in " + r.out.string() + "\n  " + how);
 }
 
 // The outputs of a completed run, its summary and its result.
@@ -307,10 +344,13 @@ RunResult run_case(Case& c, const fs::path& out, bool quiet, const std::string& 
                 << rep.worst_error << " Pa" << (rep.at_strength ? ", " + std::to_string(rep.at_strength) + " at their shear strength" : "")
                 << ")\n";
   }
+  std::size_t si = first_stage;
   try {
-    for (std::size_t si = first_stage; si < c.stages.size(); ++si) run_stage(r, joints, si);
+    for (; si < c.stages.size(); ++si) run_stage(r, joints, si);
   } catch (const InstabilityError& e) {
     throw stopped_unstable(r, e);
+  } catch (const Interrupted& e) {
+    throw stopped_by_signal(r, e.signal(), si);
   }
   return finish(r);
 }

@@ -1,0 +1,108 @@
+#!/usr/bin/env bash
+# Nothing lost, nothing mixed (docs/reliability.md): a non-empty --out is refused unless
+# --overwrite, which empties only a folder rockdem wrote; every run folder has a manifest.json
+# (also as root attributes of history.h5); SIGINT/SIGTERM stop a run with exit 130/143, the state
+# and the histories so far written, and a line saying how to go on; a full disk or an unwritable
+# output is exit 1 naming the path, never a crash.
+# Usage: bash output_safety.sh <rockdem-binary> <source-dir>
+set -u
+bin=$1
+src=$2
+tmp=$(mktemp -d)
+mnt=""
+cleanup() {
+  [ -n "$mnt" ] && umount "$mnt" 2>/dev/null
+  rm -rf "$tmp"
+}
+trap cleanup EXIT
+fail=0
+. "$src/tests/cli/lib/expect.sh"
+incline="$src/cases/sliding_block/incline.toml"
+lab="$src/cases/direct_shear/test09_mohr_coulomb.toml"
+
+# --- 3. output folders are never silently reused ------------------------------------------------
+expect first_run 0 run "$incline" --out "$tmp/a" --quiet --
+expect second_run_refused 2 run "$incline" --out "$tmp/a" --quiet -- "--out $tmp/a" "not empty" "--overwrite"
+touch "$tmp/a/stale_from_earlier.vtu"
+expect overwrite 0 run "$incline" --out "$tmp/a" --quiet --overwrite --
+[ -e "$tmp/a/stale_from_earlier.vtu" ] && { echo "FAIL --overwrite left a stale file"; fail=1; }
+mkdir -p "$tmp/mine" && echo "my notes" > "$tmp/mine/notes.txt"
+expect overwrite_user_folder 2 run "$incline" --out "$tmp/mine" --quiet --overwrite -- "no" "manifest.json" "notes.txt"
+[ -f "$tmp/mine/notes.txt" ] || { echo "FAIL the user's file was deleted"; fail=1; }
+/usr/bin/python3 - "$tmp/a" "$incline" <<'PY' || fail=1
+import json, sys, h5py
+d, case = sys.argv[1], sys.argv[2]
+m = json.load(open(d + "/manifest.json"))
+want = {"status": "finished", "exit_code": 0, "stages": ["settle", "slide"], "case_file": case}
+for k, v in want.items():
+    if m.get(k) != v: print("FAIL manifest %s = %r, wanted %r" % (k, m.get(k), v)); sys.exit(1)
+for k in ("rockdem_version", "rockdem_commit", "command_line", "started_utc", "ended_utc"):
+    if not m.get(k): print("FAIL manifest lacks", k); sys.exit(1)
+if "--overwrite" not in m["command_line"]: print("FAIL command line", m["command_line"]); sys.exit(1)
+if open(d + "/case.toml").read() != open(case).read(): print("FAIL case.toml is not the case file"); sys.exit(1)
+with h5py.File(d + "/history.h5", "r", locking=False) as f:
+    a = dict(f.attrs)
+    def s(x): return x.decode() if isinstance(x, bytes) else str(x)
+    if s(a.get("status")) != "finished" or int(a.get("exit_code")) != 0 or s(a.get("stages")) != "settle, slide":
+        print("FAIL history.h5 root attributes", a); sys.exit(1)
+print("ok   manifest.json and history.h5 attributes: %s, commit %s, %s .. %s" % (m["status"], m["rockdem_commit"], m["started_utc"], m["ended_utc"]))
+PY
+# A restart continues the folder of the run it restarts (it has a manifest), no --overwrite needed.
+cp -r "$tmp/a" "$tmp/b" && rm "$tmp/b/final_state.h5"
+expect restart_same_folder 0 run "$incline" --out "$tmp/b" --restart "$tmp/b/stage_1_settle.h5" --quiet --
+grep -q '"restart_from": ".*stage_1_settle.h5"' "$tmp/b/manifest.json" && grep -q '"status": "finished"' "$tmp/b/manifest_before_restart_1.json" ||
+  { echo "FAIL restart: manifest not updated or the first run's manifest not kept"; fail=1; }
+expect restart_foreign_folder 2 run "$incline" --out "$tmp/mine" --restart "$tmp/b/stage_1_settle.h5" --quiet -- "manifest.json"
+
+# --- 4. SIGINT / SIGTERM ------------------------------------------------------------------------
+# The built-in direct-shear case runs for about a minute: signalled one second into its second
+# stage (after its first stage checkpoint), it must stop within seconds.
+for sig in INT TERM; do
+  want=$([ $sig = INT ] && echo 130 || echo 143)
+  "$bin" run --default --out "$tmp/sig_$sig" --quiet > "$tmp/sig_$sig.log" 2>&1 &
+  pid=$!
+  for _ in $(seq 1 1200); do [ -f "$tmp/sig_$sig/stage_1_consolidate.h5" ] && break; sleep 0.1; done
+  sleep 1
+  kill -$sig $pid
+  wait $pid
+  code=$?
+  out=$(cat "$tmp/sig_$sig.log")
+  if [ $code -ne $want ]; then
+    echo "FAIL SIG$sig: exit $code, wanted $want: $out"; fail=1; continue
+  fi
+  for w in "interrupted_state.h5" "--restart $tmp/sig_$sig/stage_1_consolidate.h5"; do
+    grep -qF -- "$w" <<<"$out" || { echo "FAIL SIG$sig: message lacks '$w': $out"; fail=1; }
+  done
+  /usr/bin/python3 - "$tmp/sig_$sig" $want <<'PY' || fail=1
+import json, sys, h5py
+d, code = sys.argv[1], int(sys.argv[2])
+with h5py.File(d + "/history.h5", "r", locking=False) as f:
+    n = f["history/time"].shape[0]
+    t = f["history/time"][-1]
+m = json.load(open(d + "/manifest.json"))
+if m["status"] != "interrupted" or m["exit_code"] != code: print("FAIL manifest after signal", m); sys.exit(1)
+h5py.File(d + "/interrupted_state.h5", "r", locking=False).close()
+print("ok   signal: exit %d, history readable (%d samples to t = %.4f s), interrupted_state.h5 readable" % (code, n, t))
+PY
+  echo "     $(tail -n 1 <<<"$out")"
+done
+expect restart_from_interrupted_refused 2 run --default --out "$tmp/sig_INT" --restart "$tmp/sig_INT/interrupted_state.h5" --quiet -- \
+  "interrupted run" "stage_<n>_<name>.h5"
+
+# --- 1d. write failures: exit 1 naming the path, never a crash ---------------------------------
+expect element_unwritable 1 element "$lab" --out "$tmp/no/such/folder/e.csv" -- "$tmp/no/such/folder/e.csv"
+mkdir -p "$tmp/full"
+if mount -t tmpfs -o size=200k tmpfs "$tmp/full" 2>/dev/null; then
+  mnt="$tmp/full"
+  out=$(timeout 300 "$bin" run "$incline" --out "$tmp/full/run" --quiet 2>&1)
+  code=$?
+  if [ $code -ne 1 ] || ! grep -qF "$tmp/full/run" <<<"$out"; then
+    echo "FAIL disk full run: exit $code (wanted 1 naming the path): $out"; fail=1
+  else
+    echo "ok   disk full run: exit 1: $(head -c 300 <<<"$out" | tr '\n' ' ')"
+  fi
+  umount "$mnt" && mnt=""
+else
+  echo "skip disk full (cannot mount a tmpfs here; needs root)"
+fi
+exit $fail
