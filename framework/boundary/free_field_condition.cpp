@@ -39,8 +39,6 @@ FreeFieldCondition::FreeFieldCondition(std::vector<FaceSelection> sels, std::vec
   stable_dt_ = std::numeric_limits<double>::max();
   for (std::size_t i = 0; i < nodes_.size(); ++i)
     if (k[i] > 0.0) stable_dt_ = std::min(stable_dt_, 0.5 * 2.0 * std::sqrt(nodes_[i].mass / k[i]));
-  // The lowest node is the column's base (a y-sorted list is built by the factory).
-  base_ = 0;
 }
 
 std::string FreeFieldCondition::describe(const Model& m) const {
@@ -68,15 +66,6 @@ void FreeFieldCondition::setup(Model& m) {
   for (std::size_t i = 0; i < nodes_.size(); ++i) hold_[i] = -m.gp[static_cast<std::size_t>(nodes_[i].gp)].f;
 }
 
-Vec2 FreeFieldCondition::base_input(double t) const {
-  Vec2 w = Vec2::Zero();
-  for (const auto& sm : motions_) {
-    const double k = rigid_base_ || sm.motion->type == seismic::MotionType::outcrop ? 1.0 : 2.0;
-    w[sm.motion->direction] += k * sm.factor * sm.motion->velocity(t);
-  }
-  return w;
-}
-
 Vec2 FreeFieldCondition::element_strain(const Element& e) const {
   return (nodes_[static_cast<std::size_t>(e.b)].u - nodes_[static_cast<std::size_t>(e.a)].u) / e.length;
 }
@@ -97,9 +86,9 @@ void FreeFieldCondition::column_forces(double t) {
   }
   if (!rigid_base_) {
     // The base element's impedance, per unit width of column.
-    const Element& e = *std::find_if(elements_.begin(), elements_.end(), [&](const Element& x) { return x.a == base_; });
-    Node& b = nodes_[static_cast<std::size_t>(base_)];
-    const Vec2 dv = base_input(t) - b.v;
+    const Element& e = *std::find_if(elements_.begin(), elements_.end(), [&](const Element& x) { return x.a == kBase; });
+    Node& b = nodes_[static_cast<std::size_t>(kBase)];
+    const Vec2 dv = base_input(motions_, t, rigid_base_) - b.v;
     b.f += e.rho * Vec2(e.cs() * dv.x(), e.cp() * dv.y());
   }
 }
@@ -115,7 +104,7 @@ void FreeFieldCondition::end_step(const Model&, double dt) {
       Node& n = nodes_[i];
       n.v += n.f / n.mass * h;
     }
-    if (rigid_base_) nodes_[static_cast<std::size_t>(base_)].v = base_input(time_ + h);
+    if (rigid_base_) nodes_[static_cast<std::size_t>(kBase)].v = base_input(motions_, time_ + h, rigid_base_);
     for (Node& n : nodes_) n.u += n.v * h;
     time_ += h;
   }

@@ -59,7 +59,6 @@ class FreeFieldCondition final : public BoundaryCondition {
 
  private:
   void column_forces(double t);
-  Vec2 base_input(double t) const;  // twice the incident velocity (compliant) or the base velocity (rigid)
   Vec2 element_strain(const Element& e) const;  // (shear strain, vertical strain)
   std::vector<FaceSelection> sels_;
   std::vector<Node> nodes_;
@@ -67,7 +66,7 @@ class FreeFieldCondition final : public BoundaryCondition {
   std::vector<Spring> springs_;
   std::vector<SideEdge> edges_;
   bool rigid_base_, hold_static_;
-  int base_ = 0;          // the lowest node
+  static constexpr int kBase = 0;  // the lowest node: nodes are sorted by height
   double time_ = 0.0;     // stage time of the column
   double stable_dt_ = 0.0;
   std::vector<StageMotion> motions_;

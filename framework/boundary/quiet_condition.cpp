@@ -48,19 +48,24 @@ void QuietCondition::set_motions(const std::vector<StageMotion>& motions) {
   motions_ = motions;
 }
 
-Vec2 QuietCondition::twice_incident(double t) const {
+Vec2 base_input(const std::vector<BoundaryCondition::StageMotion>& motions, double t, bool rigid_base) {
   Vec2 w = Vec2::Zero();
-  for (const auto& sm : motions_) {
-    // An outcrop record is twice the incident wave already; an incident one is doubled here.
-    const double k = sm.motion->type == seismic::MotionType::outcrop ? 1.0 : 2.0;
+  for (const auto& sm : motions) {
+    const double k = rigid_base || sm.motion->type == seismic::MotionType::outcrop ? 1.0 : 2.0;
     w[sm.motion->direction] += k * sm.factor * sm.motion->velocity(t);
   }
   return w;
 }
 
+double motions_duration(const std::vector<BoundaryCondition::StageMotion>& motions) {
+  double d = 0.0;
+  for (const auto& sm : motions) d = std::max(d, sm.motion->duration());
+  return d;
+}
+
 double QuietCondition::forces(Model& m, double t) {
   double applied = 0.0;
-  const Vec2 w = o_.seismic_input ? twice_incident(t) : Vec2::Zero();
+  const Vec2 w = o_.seismic_input ? base_input(motions_, t, false) : Vec2::Zero();
   for_each_edge(m, sel_, [&](int ga, int gb, const Vec2& d) {
     const double len = d.norm();
     const Vec2 tn = d / len;
@@ -97,12 +102,7 @@ void QuietCondition::add_dashpots(const Model& m, std::vector<double>& c) const 
   }
 }
 
-double QuietCondition::history_duration() const {
-  double d = 0.0;
-  if (o_.seismic_input)
-    for (const auto& sm : motions_) d = std::max(d, sm.motion->duration());
-  return d;
-}
+double QuietCondition::history_duration() const { return o_.seismic_input ? motions_duration(motions_) : 0.0; }
 
 std::vector<double> QuietCondition::saved_state() const {
   if (!held_) return {};
@@ -169,20 +169,10 @@ WaveImpedance face_impedance(const ConditionInput& in) {
 
 namespace {
 
-bool hold_static(const ConditionInput& in) {
-  const ConditionValue* v = in.value("static_reactions");
-  if (!v) return true;
-  const std::string& s = v->names.front();
-  if (s != "hold" && s != "release")
-    throw InputError(v->where + ": unknown static_reactions '" + s + "'; valid: hold (the forces a fixed boundary carried "
-                     "at the end of the previous stage stay applied), release (dashpots only)");
-  return s == "hold";
-}
-
 std::unique_ptr<BoundaryCondition> make_quiet(const ConditionInput& in) {
   const WaveImpedance z = face_impedance(in);
   return std::make_unique<QuietCondition>(in.selection, z.rho, z.cp, z.cs,
-                                          QuietCondition::Options{false, hold_static(in), in.rigid});
+                                          QuietCondition::Options{false, hold_static_reactions(in), in.rigid});
 }
 
 }  // namespace
@@ -197,7 +187,15 @@ std::vector<ConditionKey> dashpot_keys() {
            "hold (default): the forces the boundary carried when fixed stay applied; release: dashpots only"}};
 }
 
-bool hold_static_reactions(const ConditionInput& in) { return hold_static(in); }
+bool hold_static_reactions(const ConditionInput& in) {
+  const ConditionValue* v = in.value("static_reactions");
+  if (!v) return true;
+  const std::string& s = v->names.front();
+  if (s != "hold" && s != "release")
+    throw InputError(v->where + ": unknown static_reactions '" + s + "'; valid: hold (the forces a fixed boundary carried "
+                     "at the end of the previous stage stay applied), release (dashpots only)");
+  return s == "hold";
+}
 
 namespace {
 // The rank places the kind in messages' list: fixed, velocity, traction, quiet.

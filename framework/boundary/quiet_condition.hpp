@@ -42,8 +42,6 @@ class QuietCondition final : public BoundaryCondition {
   bool renumber(const Renumbering& r) override { return rockdem::renumber(sel_, r); }
 
  private:
-  // The incident-wave velocity times two (what the stress input multiplies by rho C) at stage time t.
-  Vec2 twice_incident(double t) const;
   FaceSelection sel_;
   double rho_, cp_, cs_;
   Options o_;
@@ -66,6 +64,12 @@ struct WaveImpedance {
   double rho = 0.0, cp = 0.0, cs = 0.0;
 };
 WaveImpedance face_impedance(const ConditionInput& in);
+
+// What the stage's motions put in at a base at stage time t, by component: for a compliant base
+// twice the incident wave (an outcrop record already is; an incident one is doubled), for a rigid
+// base the motion itself. And how long the longest of them lasts.
+Vec2 base_input(const std::vector<BoundaryCondition::StageMotion>& motions, double t, bool rigid_base);
+double motions_duration(const std::vector<BoundaryCondition::StageMotion>& motions);
 
 // The keys of the kinds that put dashpots on a face (quiet, seismic, free_field): cp, cs,
 // density, static_reactions; and the static_reactions choice read from them.

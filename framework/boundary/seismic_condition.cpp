@@ -27,14 +27,8 @@ void RigidBaseCondition::setup(Model& m) {
   for (int g : sel_.points) m.gp[g].fixed_x = m.gp[g].fixed_y = true;
 }
 
-Vec2 RigidBaseCondition::velocity(double t) const {
-  Vec2 v = Vec2::Zero();
-  for (const auto& sm : motions_) v[sm.motion->direction] += sm.factor * sm.motion->velocity(t);
-  return v;
-}
-
 void RigidBaseCondition::velocities(Model& m, double t) {
-  const Vec2 v = velocity(t);
+  const Vec2 v = base_input(motions_, t, true);
   if (rigid_) {
     Block& b = m.blocks[sel_.block];
     b.vc = v;
@@ -44,11 +38,7 @@ void RigidBaseCondition::velocities(Model& m, double t) {
   for (int g : sel_.points) m.gp[g].v = v;
 }
 
-double RigidBaseCondition::history_duration() const {
-  double d = 0.0;
-  for (const auto& sm : motions_) d = std::max(d, sm.motion->duration());
-  return d;
-}
+double RigidBaseCondition::history_duration() const { return motions_duration(motions_); }
 
 namespace {
 

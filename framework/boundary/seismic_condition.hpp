@@ -22,7 +22,6 @@ class RigidBaseCondition final : public BoundaryCondition {
   bool renumber(const Renumbering& r) override { return rockdem::renumber(sel_, r); }
 
  private:
-  Vec2 velocity(double t) const;
   FaceSelection sel_;
   bool rigid_;
   std::vector<StageMotion> motions_;
