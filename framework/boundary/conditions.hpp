@@ -26,8 +26,10 @@ struct FaceSelection {
 FaceSelection select_face(const Model& m, int block, const Vec2& direction);
 // Calls f(ga, gb, d) for each selected edge: its two gridpoints (counter-clockwise) and the vector
 // from the first to the second (the outward normal times the length is (d.y, -d.x)).
+// In a decomposed run only the process owning the block calls f (partition.hpp).
 template <class F>
 void for_each_edge(Model& m, const FaceSelection& sel, F&& f) {
+  if (!m.part.owns(sel.block)) return;
   const Block& b = m.blocks[static_cast<std::size_t>(sel.block)];
   const int n = static_cast<int>(b.boundary.size());
   for (int i : sel.edges) {

@@ -121,6 +121,7 @@ double FreeFieldCondition::forces(Model& m, double) {
     const double sxx = e.lambda * s.y(), syy = (e.lambda + 2.0 * e.shear) * s.y(), sxy = e.shear * s.x();
     const Vec2 traction(sxx * nrm.x() + sxy * nrm.y(), sxy * nrm.x() + syy * nrm.y());
     for (auto [g, k] : {std::pair{se.ga, se.na}, std::pair{se.gb, se.nb}}) {
+      if (!m.part.owns(m.gp[static_cast<std::size_t>(g)].block)) continue;  // another process's (partition.hpp)
       const Node& n = nodes_[static_cast<std::size_t>(k)];
       const Vec2 dv = n.v - m.gp[static_cast<std::size_t>(g)].v;
       const Vec2 f = 0.5 * len * (traction + e.rho * (e.cp() * dv.dot(nrm) * nrm + e.cs() * dv.dot(tn) * tn));
@@ -130,6 +131,7 @@ double FreeFieldCondition::forces(Model& m, double) {
   }
   if (held_)
     for (std::size_t i = 0; i < nodes_.size(); ++i) {
+      if (!m.part.owns(m.gp[static_cast<std::size_t>(nodes_[i].gp)].block)) continue;
       m.gp[static_cast<std::size_t>(nodes_[i].gp)].f += hold_[i];
       applied += hold_[i].norm();
     }

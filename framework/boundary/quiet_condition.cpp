@@ -78,7 +78,7 @@ double QuietCondition::forces(Model& m, double t) {
       applied += f.norm();
     }
   });
-  if (!held_) return applied;
+  if (!held_ || !m.part.owns(sel_.block)) return applied;
   if (o_.rigid) {
     add_rigid_load(m, sel_.block, hold_force_, hold_moment_);
     return applied + hold_force_.norm();

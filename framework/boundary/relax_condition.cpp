@@ -18,6 +18,7 @@ double RelaxCondition::forces(Model& m, double) {
   if (factor == 0.0) return 0.0;
   double applied = 0.0;
   for (const auto& [g, f] : forces_) {
+    if (!m.part.owns(m.gp[g].block)) continue;  // another process's (partition.hpp)
     m.gp[g].f += factor * f;
     applied += factor * f.norm();
   }

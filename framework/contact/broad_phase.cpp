@@ -71,9 +71,15 @@ void broad_phase_pairs(const Model& m, double margin, std::vector<std::pair<int,
   const Box empty{Vec2::Constant(std::numeric_limits<double>::max()), Vec2::Constant(-std::numeric_limits<double>::max())};
   Box all = empty;
   double mean_size = 0.0;
+  // A decomposed run (partition.hpp) looks only at blocks whose state is current here, and keeps
+  // the pairs with a block of its own.
+  const Partition& part = m.part;
+  int counted = 0;
   for (int i = 0; i < nb; ++i) {
     Box& box = g.boxes[static_cast<std::size_t>(i)];
     box = empty;
+    if (!part.current(i)) continue;
+    ++counted;
     for (int p : m.blocks[static_cast<std::size_t>(i)].boundary) {
       box.lo = box.lo.cwiseMin(m.gp[static_cast<std::size_t>(p)].x);
       box.hi = box.hi.cwiseMax(m.gp[static_cast<std::size_t>(p)].x);
@@ -84,7 +90,8 @@ void broad_phase_pairs(const Model& m, double margin, std::vector<std::pair<int,
     all.hi = all.hi.cwiseMax(box.hi);
     mean_size += (box.hi - box.lo).maxCoeff();
   }
-  mean_size /= nb;
+  if (counted < 2) return;
+  mean_size /= counted;
   // A non-finite box would make the grid below infinitely large (its sizing loop never ends and
   // the cell arrays grow without bound); the engine stops such a state first, this is the guard.
   if (!all.lo.allFinite() || !all.hi.allFinite() || !std::isfinite(mean_size))
@@ -107,6 +114,11 @@ void broad_phase_pairs(const Model& m, double margin, std::vector<std::pair<int,
   for (int i = 0; i < nb; ++i) {
     const Box& b = g.boxes[static_cast<std::size_t>(i)];
     std::int32_t* r = &g.cell_lo[4 * static_cast<std::size_t>(i)];
+    if (!part.current(i)) {  // in no cell
+      r[0] = r[2] = 0;
+      r[1] = r[3] = -1;
+      continue;
+    }
     r[0] = cx(b.lo.x());
     r[1] = cx(b.hi.x());
     r[2] = cy(b.lo.y());
@@ -134,6 +146,7 @@ void broad_phase_pairs(const Model& m, double margin, std::vector<std::pair<int,
           const Box &A = g.boxes[static_cast<std::size_t>(i)], &B = g.boxes[static_cast<std::size_t>(j)];
           if (!(A.lo.x() <= B.hi.x() && B.lo.x() <= A.hi.x() && A.lo.y() <= B.hi.y() && B.lo.y() <= A.hi.y())) continue;
           if (cx(std::max(A.lo.x(), B.lo.x())) != x || cy(std::max(A.lo.y(), B.lo.y())) != y) continue;
+          if (!part.owns(i) && !part.owns(j)) continue;
           pairs.emplace_back(i, j);
         }
     }

@@ -1,5 +1,7 @@
 #include "framework/lab/direct_shear_recorder.hpp"
 
+#include <vector>
+
 #include <algorithm>
 #include <sstream>
 
@@ -30,11 +32,19 @@ void DirectShearRecorder::stage_started(const std::string& name) {
 void DirectShearRecorder::sample(History& h) {
   const Model& m = c_.model;
   const auto& d = c_.direct_shear;
-  double fx = e_.contact_force_on(d.loader).x();
-  for (int l : d.other_loaders) fx += e_.contact_force_on(l).x();
+  // In a decomposed run each loader's contact force comes from the process owning it, and the
+  // displacements from process 0, where the recorder has made the state current; the sums below
+  // add one non-zero part each, so the values are the serial run's.
+  const Communication& comm = e_.communication();
+  const bool here = !m.part.decomposed() || comm.root();
+  std::vector<double> v{here ? m.blocks[d.loader].xc.x() - loader_x0_ : 0.0, here ? normal_disp() - normal0_ : 0.0};
+  v.push_back(m.part.owns(d.loader) ? e_.contact_force_on(d.loader).x() : 0.0);
+  for (int l : d.other_loaders) v.push_back(m.part.owns(l) ? e_.contact_force_on(l).x() : 0.0);
+  comm.sum(v.data(), static_cast<int>(v.size()));
+  double fx = v[2];
+  for (std::size_t k = 3; k < v.size(); ++k) fx += v[k];
   const double tau = -fx / d.joint_length;
-  const double us = m.blocks[d.loader].xc.x() - loader_x0_;
-  const double un = normal_disp() - normal0_;
+  const double us = v[0], un = v[1];
   // A joint that dilates beyond the detection distance loses its contacts (points meeting on
   // the dilated joint are not found) and the specimen collapses: stop, rather than record
   // something that is no longer the joint law's.

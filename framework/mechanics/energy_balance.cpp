@@ -40,7 +40,8 @@ void EnergyBalance::after_boundary_forces(const Model& m) {
 double EnergyBalance::contact_energy(const Model& m, double* slip_increment) {
   double e = 0.0, slip = 0.0;
   for (const Contact& c : m.contacts.items) {
-    if (c.response.open || c.pretouch_gap > 0.0) continue;
+    // A decomposed run counts each contact on the process owning its point (partition.hpp).
+    if (c.response.open || c.pretouch_gap > 0.0 || !m.part.owns(m.gp[static_cast<std::size_t>(c.point)].block)) continue;
     const JointModel& law = *m.contacts.models[static_cast<std::size_t>(c.joint)];
     const double kn = c.response.kn > 0.0 ? c.response.kn : law.initial_kn();
     const double ks = c.response.ks > 0.0 ? c.response.ks : law.initial_ks();
@@ -78,7 +79,9 @@ void EnergyBalance::after_step(const Model& m, const EnergyMasses& masses, doubl
   // before, which were not kept.
   const double w = first ? 0.0 : 1.0;
   double kinetic = 0.0, gravity = 0.0, boundary = 0.0, damping = 0.0, zone_work = 0.0;
-  for (std::size_t i = 0; i < ng; ++i) {
+  // Sums over what this process owns (all of the model in a serial run).
+  for_owned_gridpoints(m, [&](int gi) {
+    const auto i = static_cast<std::size_t>(gi);
     const GridPoint& g = m.gp[i];
     const Vec2 dx = v_old_[i] * dt_prev_;  // x(n) - x(n-1)
     boundary += w * 0.5 * (f_bc_prev_[i] + f_bc_[i]).dot(dx);
@@ -87,7 +90,7 @@ void EnergyBalance::after_step(const Model& m, const EnergyMasses& masses, doubl
       zone_work += w * 0.5 * (f_zone_prev_[i] + f_zone_[i]).dot(dx);
       f_zone_prev_[i] = f_zone_[i];
     }
-    if (m.blocks[g.block].rigid) continue;
+    if (m.blocks[g.block].rigid) return;
     kinetic += 0.5 * g.mass * v_old_[i].dot(g.v);
     gravity += w * g.mass * m.gravity.dot(dx);
     // The force the applied ones do not explain: damping on a free component, the reaction of
@@ -99,10 +102,11 @@ void EnergyBalance::after_step(const Model& m, const EnergyMasses& masses, doubl
       else damping -= work;
     }
     r_prev_[i] = r;
-  }
-  for (std::size_t b = 0; b < nb; ++b) {
+  });
+  for_owned_blocks(m, [&](int bi) {
+    const auto b = static_cast<std::size_t>(bi);
     const Block& B = m.blocks[b];
-    if (!B.rigid || B.fixed) continue;
+    if (!B.rigid || B.fixed) return;
     const Eigen::Vector3d vo = vb_old_[b], v(B.vc.x(), B.vc.y(), B.omega);
     const Eigen::Vector3d dx = vo * dt_prev_;
     kinetic += 0.5 * B.mass * vo.head<2>().dot(v.head<2>()) + 0.5 * B.inertia * vo[2] * v[2];
@@ -118,14 +122,15 @@ void EnergyBalance::after_step(const Model& m, const EnergyMasses& masses, doubl
       else damping -= work;
       rb_prev_[b][d] = r;
     }
-  }
+  });
   double strain = 0.0;
-  for (std::size_t z = 0; z < nz; ++z) {
+  for_owned_zones(m, [&](int zi) {
+    const auto z = static_cast<std::size_t>(zi);
     const Zone& Z = m.zones[z];
     strain += w * 0.5 * (sig_prev_[z] + Z.stress).dot(Z.strain - eps_prev_[z]) * Z.area;
     sig_prev_[z] = Z.stress;
     eps_prev_[z] = Z.strain;
-  }
+  });
   // Stiffness-proportional Rayleigh damping acts through the zone forces but not the zone
   // stresses: the zone forces' work that the stresses did not take is what it dissipated. The
   // zone forces do work -W on the gridpoints when the zones take up W.

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 #include <sstream>
+#include <tuple>
 
 #include "framework/core/error.hpp"
 #include "framework/mechanics/zones.hpp"
@@ -29,7 +30,49 @@ Damping Damping::rayleigh_band(double xi, double f1, double f2) {
   return d;
 }
 
-Engine::Engine(Model& m, EngineSettings s) : m_(m), s_(s) {}
+Engine::Engine(Model& m, EngineSettings s, Communication& comm) : m_(m), s_(s), comm_(comm) {}
+
+template <class F>
+void Engine::on_all_processes(F&& f) {
+  if (comm_.size() == 1) {
+    f();
+    return;
+  }
+  std::string message;
+  char kind = 0;
+  try {
+    f();
+  } catch (const InputError& e) {
+    kind = 'i';
+    message = e.what();
+  } catch (const InstabilityError& e) {
+    kind = 'u';
+    message = e.what();
+  } catch (const std::exception& e) {
+    kind = 'e';
+    message = e.what();
+  }
+  const std::string first = comm_.first_message(kind ? std::string(1, kind) + message : std::string());
+  if (first.empty()) return;
+  if (first[0] == 'i') throw InputError(first.substr(1));
+  if (first[0] == 'u') throw InstabilityError(first.substr(1));
+  throw std::runtime_error(first.substr(1));
+}
+
+const EnergyTerms& Engine::energy() const {
+  if (!energy_.tracking()) energy_.start();
+  if (comm_.size() == 1) return energy_.terms();
+  // Each process holds the terms of what it owns; they add up. The relative error is taken
+  // against the largest magnitude the summed terms have reached at the calls so far.
+  const EnergyTerms& t = energy_.terms();
+  double v[] = {t.kinetic, t.strain, t.contact, t.gravity_work, t.boundary_work, t.slip, t.damping, t.kinetic_start, t.contact_start};
+  comm_.sum(v, 9);
+  energy_scale_ = std::max({energy_scale_, std::abs(v[3]), std::abs(v[4]), std::abs(v[0] - v[7]), std::abs(v[1]),
+                            std::abs(v[2]), std::abs(v[5]), std::abs(v[6])});
+  energy_sum_ = EnergyTerms{v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8]};
+  energy_sum_.error = energy_scale_ > 0.0 ? energy_sum_.imbalance() / energy_scale_ : 0.0;
+  return energy_sum_;
+}
 
 void Engine::add_condition(std::unique_ptr<BoundaryCondition> bc) { bcs_.push_back(std::move(bc)); }
 
@@ -84,7 +127,14 @@ void Engine::begin_stage(const std::string& name, const Damping& d) {
 }
 
 void Engine::refresh_contacts() {
-  detect_contacts(m_, s_.detection);
+  on_all_processes([&] {
+    // Which blocks each process needs as ghosts after the motion since the last detection (a
+    // wider margin than the broad phase's, so that none it would pair is missed), then their
+    // present state, then detection on the blocks current here.
+    comm_.borders(m_, 2.0 * s_.detection.distance);
+    comm_.forward(m_);
+    detect_contacts(m_, s_.detection);
+  });
   steps_since_refresh_ = 0;
   compute_time_step();
 }
@@ -125,20 +175,22 @@ void Engine::compute_time_step() {
   double dt = std::numeric_limits<double>::max();
   const bool scaling = s_.mass_scaling_dt > 0.0;
   const double target = s_.mass_scaling_dt / (2.0 * s_.dt_safety);  // m = k (dt/2)^2 is just stable
+  // Over what this process owns; the smallest step of all processes applies (below).
   inertial_mass_.assign(m_.gp.size(), 0.0);
-  for (std::size_t i = 0; i < m_.gp.size(); ++i) {
-    const GridPoint& g = m_.gp[i];
-    if (m_.blocks[g.block].rigid) continue;
+  for_owned_gridpoints(m_, [&](int i) {
+    const GridPoint& g = m_.gp[static_cast<std::size_t>(i)];
+    if (m_.blocks[g.block].rigid) return;
     double mass = g.mass;
     if (scaling && g.stiffness > 0.0) mass = std::max(mass, g.stiffness * target * target);
-    inertial_mass_[i] = mass;
+    inertial_mass_[static_cast<std::size_t>(i)] = mass;
     if (g.stiffness > 0.0) dt = std::min(dt, 2.0 * std::sqrt(mass / g.stiffness));
-  }
+  });
   block_mass_.assign(nb, 0.0);
   block_inertia_.assign(nb, 0.0);
-  for (std::size_t b = 0; b < nb; ++b) {
+  for_owned_blocks(m_, [&](int bi) {
+    const auto b = static_cast<std::size_t>(bi);
     const Block& B = m_.blocks[b];
-    if (!B.rigid) continue;
+    if (!B.rigid) return;
     double mass = B.mass, inertia = B.inertia;
     if (scaling) {
       mass = std::max(mass, kb[b] * target * target);
@@ -146,18 +198,21 @@ void Engine::compute_time_step() {
     }
     block_mass_[b] = mass;
     block_inertia_[b] = inertia;
-    if (B.fixed || B.prescribed == Block::kDriveAll) continue;
+    if (B.fixed || B.prescribed == Block::kDriveAll) return;
     if (kb[b] > 0.0) dt = std::min(dt, 2.0 * std::sqrt(mass / kb[b]));
     if (krot[b] > 0.0) dt = std::min(dt, 2.0 * std::sqrt(inertia / krot[b]));
-  }
+  });
   // Dashpots of viscous boundaries: an explicit damper is stable for dt < 2 m / c.
   dashpot_.assign(m_.gp.size(), 0.0);
   for (auto* bc : active_) bc->add_dashpots(m_, dashpot_);
-  for (std::size_t i = 0; i < m_.gp.size(); ++i)
+  for_owned_gridpoints(m_, [&](int gi) {
+    const auto i = static_cast<std::size_t>(gi);
     if (dashpot_[i] > 0.0 && !m_.blocks[m_.gp[i].block].rigid) dt = std::min(dt, 2.0 * inertial_mass_[i] / dashpot_[i]);
-  for (std::size_t b = 0; b < nb; ++b) {
+  });
+  for_owned_blocks(m_, [&](int bi) {
+    const auto b = static_cast<std::size_t>(bi);
     const Block& B = m_.blocks[b];
-    if (!B.rigid || B.fixed || B.prescribed == Block::kDriveAll) continue;
+    if (!B.rigid || B.fixed || B.prescribed == Block::kDriveAll) return;
     double c = 0.0, crot = 0.0;
     for (int i = B.first_gp; i < B.first_gp + B.n_gp; ++i) {
       c += dashpot_[static_cast<std::size_t>(i)];
@@ -165,7 +220,8 @@ void Engine::compute_time_step() {
     }
     if (c > 0.0) dt = std::min(dt, 2.0 * block_mass_[b] / c);
     if (crot > 0.0 && block_inertia_[b] > 0.0) dt = std::min(dt, 2.0 * block_inertia_[b] / crot);
-  }
+  });
+  dt = comm_.min(dt);
   if (dt == std::numeric_limits<double>::max()) dt = 1e-3;  // nothing couples yet: free flight
   critical_dt_ = dt;
   dt *= s_.dt_safety;
@@ -213,7 +269,9 @@ void Engine::contact_forces() {
     m_.gp[c.point].f += f;
     m_.gp[ga].f -= (1.0 - c.s) * f;
     m_.gp[gb].f -= c.s * f;
-    applied_sum_ += 2.0 * f.norm();
+    // Counted once, by the process owning the contact's point (a contact between two processes'
+    // blocks is computed on both).
+    if (m_.part.owns(m_.gp[c.point].block)) applied_sum_ += 2.0 * f.norm();
     block_contact_force_[m_.gp[c.point].block] += f;
     block_contact_force_[c.other] -= f;
   }
@@ -224,35 +282,52 @@ Vec2 Engine::contact_force_on(int block) const {
 }
 
 void Engine::step() {
-  update_contact_geometry(m_);
-  for (auto& g : m_.gp) g.f.setZero();
-  applied_sum_ = 0.0;
   const double beta = damping_.kind == Damping::Kind::rayleigh ? damping_.beta : 0.0;
-  zone_forces(m_, dt_, beta);
-  energy_.after_zone_forces(m_, beta);
-  contact_forces();
-  energy_.before_boundary_forces(m_);
-  for (auto* bc : active_) applied_sum_ += bc->forces(m_, stage_time_);
-  energy_.after_boundary_forces(m_);
-  // Gravity on the physical (unscaled) mass.
-  if (m_.gravity.squaredNorm() > 0.0) {
-    for (auto& g : m_.gp)
-      if (!m_.blocks[g.block].rigid) {
-        g.f += g.mass * m_.gravity;
-        applied_sum_ += g.mass * m_.gravity.norm();
-      }
-  }
-  integrate();
+  on_all_processes([&] {
+    update_contact_geometry(m_);
+    for_owned_gridpoints(m_, [&](int i) { m_.gp[static_cast<std::size_t>(i)].f.setZero(); });
+    for (int b : m_.part.ghost_blocks) {  // contacts put forces on them too; they are not used
+      const Block& B = m_.blocks[static_cast<std::size_t>(b)];
+      for (int i = B.first_gp; i < B.first_gp + B.n_gp; ++i) m_.gp[static_cast<std::size_t>(i)].f.setZero();
+    }
+    applied_sum_ = 0.0;
+    zone_forces(m_, dt_, beta);
+    energy_.after_zone_forces(m_, beta);
+    contact_forces();
+    energy_.before_boundary_forces(m_);
+    for (auto* bc : active_) applied_sum_ += bc->forces(m_, stage_time_);
+    energy_.after_boundary_forces(m_);
+    // Gravity on the physical (unscaled) mass.
+    if (m_.gravity.squaredNorm() > 0.0) {
+      for_owned_gridpoints(m_, [&](int i) {
+        GridPoint& g = m_.gp[static_cast<std::size_t>(i)];
+        if (!m_.blocks[g.block].rigid) {
+          g.f += g.mass * m_.gravity;
+          applied_sum_ += g.mass * m_.gravity.norm();
+        }
+      });
+    }
+    integrate();
+  });
+  // The force sums of all processes give the unbalanced-force ratio.
+  double sums[2] = {unbalanced_, applied_sum_};
+  comm_.sum(sums, 2);
+  applied_sum_ = sums[1];
+  ratio_ = applied_sum_ > 0.0 ? sums[0] / applied_sum_ : 0.0;
+  std::tie(block_ratio_, worst_block_) = comm_.max_at(block_ratio_, worst_block_);
+  // A NaN or inf anywhere in the forces (a time function's sqrt(-1), an overflowing stiffness)
+  // shows in these sums, which are formed anyway: a free check every step.
+  nonfinite_ = !std::isfinite(sums[0]) || !std::isfinite(applied_sum_);
   for (auto* bc : active_) bc->velocities(m_, stage_time_ + dt_);
   for (auto* bc : active_) bc->end_step(m_, dt_);
   // Positions from the final half-step velocities (prescribed ones included).
-  for (std::size_t i = 0; i < m_.gp.size(); ++i) {
-    GridPoint& g = m_.gp[i];
-    if (m_.blocks[g.block].rigid) continue;
-    g.x += g.v * dt_;
-  }
-  for (Block& b : m_.blocks) {
-    if (!b.rigid) continue;
+  for_owned_gridpoints(m_, [&](int i) {
+    GridPoint& g = m_.gp[static_cast<std::size_t>(i)];
+    if (!m_.blocks[g.block].rigid) g.x += g.v * dt_;
+  });
+  for_owned_blocks(m_, [&](int bi) {
+    Block& b = m_.blocks[static_cast<std::size_t>(bi)];
+    if (!b.rigid) return;
     b.xc += b.vc * dt_;
     b.theta += b.omega * dt_;
     const double c = std::cos(b.theta), s = std::sin(b.theta);
@@ -263,7 +338,8 @@ void Engine::step() {
       g.x = b.xc + r;
       g.v = b.vc + b.omega * perp(r);
     }
-  }
+  });
+  comm_.forward(m_);
   energy_.after_step(m_, EnergyMasses{inertial_mass_, block_mass_, block_inertia_}, dt_, beta);
   m_.time += dt_;
   stage_time_ += dt_;
@@ -294,9 +370,10 @@ void Engine::integrate() {
   mean_f_.assign(nb, Vec2::Zero());
   mass_sum_.assign(nb, Vec2::Zero());
   if (local) {
-    for (std::size_t i = 0; i < m_.gp.size(); ++i) {
+    for_owned_gridpoints(m_, [&](int gi) {
+      const auto i = static_cast<std::size_t>(gi);
       const GridPoint& g = m_.gp[i];
-      if (m_.blocks[g.block].rigid) continue;
+      if (m_.blocks[g.block].rigid) return;
       const double mi = inertial_mass_[i];
       for (int d = 0; d < 2; ++d) {
         if (d == 0 ? g.fixed_x : g.fixed_y) continue;
@@ -304,7 +381,7 @@ void Engine::integrate() {
         mean_f_[g.block][d] += g.f[d];
         mass_sum_[g.block][d] += mi;
       }
-    }
+    });
     for (std::size_t b = 0; b < nb; ++b)
       for (int d = 0; d < 2; ++d)
         if (mass_sum_[b][d] > 0.0) mean_v_[b][d] /= mass_sum_[b][d];
@@ -316,9 +393,10 @@ void Engine::integrate() {
     smooth_w_[b] += w * (m_.blocks[b].omega - smooth_w_[b]);
   }
   auto sgn = [](double v) { return v > 0 ? 1.0 : v < 0 ? -1.0 : 0.0; };
-  for (std::size_t i = 0; i < m_.gp.size(); ++i) {
+  for_owned_gridpoints(m_, [&](int gi) {
+    const auto i = static_cast<std::size_t>(gi);
     GridPoint& g = m_.gp[i];
-    if (m_.blocks[g.block].rigid) continue;
+    if (m_.blocks[g.block].rigid) return;
     const double mi = inertial_mass_[i];
     Vec2 f = g.f - am * mi * g.v;
     for (int d = 0; d < 2; ++d) {
@@ -333,12 +411,13 @@ void Engine::integrate() {
       }
       g.v[d] += fd / mi * dt_;
     }
-  }
+  });
   block_ratio_ = 0.0;
   worst_block_ = 0;
-  for (std::size_t bi = 0; bi < m_.blocks.size(); ++bi) {
+  for_owned_blocks(m_, [&](int bii) {
+    const auto bi = static_cast<std::size_t>(bii);
     Block& b = m_.blocks[bi];
-    if (!b.rigid) continue;
+    if (!b.rigid) return;
     Vec2 f = Vec2::Zero();
     double mom = 0.0, magnitudes = 0.0;
     for (int k = 0; k < b.n_gp; ++k) {
@@ -352,7 +431,7 @@ void Engine::integrate() {
     magnitudes += b.mass * m_.gravity.norm();
     b.fc = f;
     b.moment = mom;
-    if (b.fixed) continue;
+    if (b.fixed) return;
     const double fx = b.prescribed & Block::kDriveX ? 0.0 : f.x(), fy = b.prescribed & Block::kDriveY ? 0.0 : f.y();
     const double own = magnitudes > 0.0 ? std::hypot(fx, fy) / magnitudes : 0.0;
     if (own > block_ratio_) {
@@ -371,11 +450,8 @@ void Engine::integrate() {
       b.vc.y() += damp(f.y(), b.vc.y() - smooth_v_[bi].y()) / mi * dt_;
     }
     if (!(b.prescribed & Block::kDriveSpin) && ii > 0.0) b.omega += damp(mom, b.omega - smooth_w_[bi]) / ii * dt_;
-  }
-  ratio_ = applied_sum_ > 0.0 ? unbalanced / applied_sum_ : 0.0;
-  // A NaN or inf anywhere in the forces (a time function's sqrt(-1), an overflowing stiffness)
-  // shows in these sums, which are formed anyway: a free check every step.
-  nonfinite_ = !std::isfinite(unbalanced) || !std::isfinite(applied_sum_);
+  });
+  unbalanced_ = unbalanced;  // this process's part; step() sums them
 }
 
 void Engine::run_steps(long n) {
@@ -387,35 +463,44 @@ void Engine::run_steps(long n) {
 }
 
 void Engine::check_state() {
-  for (std::size_t i = 0; i < m_.gp.size(); ++i) {
-    const GridPoint& g = m_.gp[i];
-    if (!g.x.allFinite() || !g.v.allFinite() || g.v.norm() > s_.velocity_limit) {
-      std::ostringstream os;
-      os << "at step " << m_.step << " (time " << m_.time << " s): gridpoint " << g.local << " of block '"
-         << m_.blocks[g.block].name << "' has " << (g.v.allFinite() ? "a runaway velocity " : "a non-finite state ")
-         << "|v| = " << g.v.norm() << " m/s near (" << g.x.x() << ", " << g.x.y() << ")";
-      // The contact with the largest stress on that block is the usual culprit.
-      const Contact* worst = nullptr;
-      for (const Contact& c : m_.contacts.items)
-        if ((c.key.point_block == g.block || m_.blocks[c.other].id == g.block) &&
-            (!worst || !std::isfinite(c.response.sigma_n) || std::abs(c.response.sigma_n) > std::abs(worst->response.sigma_n)))
-          worst = &c;
-      if (worst)
-        os << "; most loaded contact: point " << worst->key.point_local << " of block " << worst->key.point_block
-           << " on block " << worst->key.other_block << " (sigma_n = " << worst->response.sigma_n << " Pa)";
-      os << ". Time step " << dt_ << " s; check stiffnesses, masses and the time step.";
-      throw InstabilityError(os.str());
-    }
-  }
+  // Each process checks what it owns; the first problem found (in process order) stops all.
+  std::string problem;
+  for_owned_gridpoints(m_, [&](int i) {
+    const GridPoint& g = m_.gp[static_cast<std::size_t>(i)];
+    if (!problem.empty() || (g.x.allFinite() && g.v.allFinite() && g.v.norm() <= s_.velocity_limit)) return;
+    std::ostringstream os;
+    os << "at step " << m_.step << " (time " << m_.time << " s): gridpoint " << g.local << " of block '"
+       << m_.blocks[g.block].name << "' has " << (g.v.allFinite() ? "a runaway velocity " : "a non-finite state ")
+       << "|v| = " << g.v.norm() << " m/s near (" << g.x.x() << ", " << g.x.y() << ")";
+    // The contact with the largest stress on that block is the usual culprit.
+    const Contact* worst = nullptr;
+    for (const Contact& c : m_.contacts.items)
+      if ((c.key.point_block == m_.blocks[g.block].id || m_.blocks[c.other].id == m_.blocks[g.block].id) &&
+          (!worst || !std::isfinite(c.response.sigma_n) || std::abs(c.response.sigma_n) > std::abs(worst->response.sigma_n)))
+        worst = &c;
+    if (worst)
+      os << "; most loaded contact: point " << worst->key.point_local << " of block " << worst->key.point_block
+         << " on block " << worst->key.other_block << " (sigma_n = " << worst->response.sigma_n << " Pa)";
+    os << ". Time step " << dt_ << " s; check stiffnesses, masses and the time step.";
+    problem = os.str();
+  });
+  on_all_processes([&] {
+    if (!problem.empty()) throw InstabilityError(problem);
+  });
   if (m_.step - last_good_.step >= kGoodStateInterval) last_good_.take(m_);
 }
 
 double Engine::kinetic_energy() const {
   double e = 0.0;
-  for (const auto& g : m_.gp)
+  for_owned_gridpoints(m_, [&](int i) {
+    const GridPoint& g = m_.gp[static_cast<std::size_t>(i)];
     if (!m_.blocks[g.block].rigid) e += 0.5 * g.mass * g.v.squaredNorm();
-  for (const auto& b : m_.blocks)
+  });
+  for_owned_blocks(m_, [&](int bi) {
+    const Block& b = m_.blocks[static_cast<std::size_t>(bi)];
     if (b.rigid) e += 0.5 * b.mass * b.vc.squaredNorm() + 0.5 * b.inertia * b.omega * b.omega;
+  });
+  comm_.sum(&e, 1);
   return e;
 }
 

@@ -12,6 +12,7 @@
 #include "framework/contact/detection.hpp"
 #include "framework/mechanics/energy_balance.hpp"
 #include "framework/mechanics/engine_settings.hpp"
+#include "framework/model/communication.hpp"
 #include "framework/model/model.hpp"
 
 namespace rockdem {
@@ -43,7 +44,8 @@ struct ModelSnapshot {
 
 class Engine {
  public:
-  Engine(Model& m, EngineSettings s);
+  // `comm`: the other processes of a domain-decomposed run (communication.hpp); by default none.
+  Engine(Model& m, EngineSettings s, Communication& comm = serial_communication());
 
   void add_condition(std::unique_ptr<BoundaryCondition> bc);
   const std::vector<std::unique_ptr<BoundaryCondition>>& conditions() const { return bcs_; }
@@ -66,14 +68,12 @@ class Engine {
   int worst_block() const { return worst_block_; }
   // Contact force exerted on a block (sum over its contacts) in the last step [N/m].
   Vec2 contact_force_on(int block) const;
-  double kinetic_energy() const;
+  double kinetic_energy() const;  // of the whole model (a collective call when decomposed)
   // The energy balance since the first call (energy_balance.hpp). The accounting costs a few
   // passes over the gridpoints per step, so it runs only once something has asked for it: the
   // first call starts it (a history of it is first sampled before the first step of a run).
-  const EnergyTerms& energy() const {
-    if (!energy_.tracking()) energy_.start();
-    return energy_.terms();
-  }
+  // When decomposed, every process must call it at the same point (its terms are summed).
+  const EnergyTerms& energy() const;
 
   const ModelSnapshot& last_good() const { return last_good_; }
   ModelSnapshot snapshot() const;
@@ -82,6 +82,7 @@ class Engine {
   Model& model() { return m_; }
   const Model& model() const { return m_; }
   const EngineSettings& settings() const { return s_; }
+  Communication& communication() const { return comm_; }
   // The stable time step masses are scaled to (0: real masses), from the next begin_stage on.
   void set_mass_scaling_dt(double dt) { s_.mass_scaling_dt = dt; }
 
@@ -90,9 +91,14 @@ class Engine {
   void contact_forces();
   void integrate();
   void check_state();
+  // Runs f; in a decomposed run an error raised by it on any process is raised on every process
+  // (with that process's message), so that none waits for the others.
+  template <class F>
+  void on_all_processes(F&& f);
 
   Model& m_;
   EngineSettings s_;
+  Communication& comm_;
   std::vector<std::unique_ptr<BoundaryCondition>> bcs_;
   std::vector<BoundaryCondition*> active_;
   Damping damping_;
@@ -104,6 +110,7 @@ class Engine {
   double block_ratio_ = 0.0;
   int worst_block_ = 0;
   double applied_sum_ = 0.0;
+  double unbalanced_ = 0.0;  // this process's sum of |net force| in the last integrate()
   bool nonfinite_ = false;  // the last step's force sums were NaN or inf
   std::vector<double> inertial_mass_;      // per gridpoint (after mass scaling)
   std::vector<double> dashpot_;            // per gridpoint: viscous boundaries' dashpots [N s/m per m]
@@ -118,6 +125,8 @@ class Engine {
   // run_steps call), the copy is only kept every so many steps (docs/performance.md, measured).
   static constexpr long kGoodStateInterval = 1000;
   mutable EnergyBalance energy_;  // started by the first energy() call
+  mutable EnergyTerms energy_sum_;  // its terms summed over the processes
+  mutable double energy_scale_ = 0.0;  // the largest summed term so far
   long steps_since_refresh_ = 0;
 };
 

@@ -43,24 +43,24 @@ double energy_term(const Model&, const Engine& e, const HistoryTarget& t) {
 // name, unit, description, needs block, rigid only, needs face, components, reduction, measure
 const HistoryQuantityRegistrar contact_force_q{HistoryQuantity{
     "contact_force", "N/m", "sum of the contact forces on a block, x or y", true, false, false, kXY,
-    Reduction::sum, contact_force}};
+    Reduction::owner, contact_force}};
 const HistoryQuantityRegistrar block_displacement_q{HistoryQuantity{
     "block_displacement", "m", "rigid-block centroid displacement, x or y [m], or rotation [rad]", true, true,
-    false, {"x", "y", "rotation"}, Reduction::owner, block_displacement}};
+    false, {"x", "y", "rotation"}, Reduction::state, block_displacement}};
 const HistoryQuantityRegistrar block_velocity_q{HistoryQuantity{
-    "block_velocity", "m/s", "rigid-block centroid velocity, x or y", true, true, false, kXY, Reduction::owner,
+    "block_velocity", "m/s", "rigid-block centroid velocity, x or y", true, true, false, kXY, Reduction::state,
     block_velocity}};
 const HistoryQuantityRegistrar face_displacement_q{HistoryQuantity{
     "face_displacement", "m", "mean displacement of the gridpoints of a block face, x or y", true, false, true, kXY,
-    Reduction::owner, face_displacement}};
+    Reduction::state, face_displacement}};
 const HistoryQuantityRegistrar unbalanced_ratio_q{HistoryQuantity{
-    "unbalanced_ratio", "", "unbalanced force over applied force", false, false, false, {}, Reduction::max,
+    "unbalanced_ratio", "", "unbalanced force over applied force", false, false, false, {}, Reduction::global,
     [](const Model&, const Engine& e, const HistoryTarget&) { return e.unbalanced_ratio(); }}};
 const HistoryQuantityRegistrar block_unbalanced_ratio_q{HistoryQuantity{
     "block_unbalanced_ratio", "", "largest unbalanced-force ratio of a single free rigid block", false, false, false, {},
-    Reduction::max, [](const Model&, const Engine& e, const HistoryTarget&) { return e.block_unbalanced_ratio(); }}};
+    Reduction::global, [](const Model&, const Engine& e, const HistoryTarget&) { return e.block_unbalanced_ratio(); }}};
 const HistoryQuantityRegistrar kinetic_energy_q{HistoryQuantity{
-    "kinetic_energy", "J/m", "kinetic energy of the model", false, false, false, {}, Reduction::sum,
+    "kinetic_energy", "J/m", "kinetic energy of the model", false, false, false, {}, Reduction::global,
     [](const Model&, const Engine& e, const HistoryTarget&) { return e.kinetic_energy(); }}};
 const HistoryQuantityRegistrar energy_q{HistoryQuantity{
     "energy", "J/m",
@@ -70,13 +70,13 @@ const HistoryQuantityRegistrar energy_q{HistoryQuantity{
     false, false, false,
     {"kinetic", "strain", "contact", "gravity_work", "boundary_work", "slip", "damping", "work_in", "accounted",
      "imbalance"},
-    Reduction::sum, energy_term}};
+    Reduction::global, energy_term}};
 const HistoryQuantityRegistrar energy_balance_error_q{HistoryQuantity{
     "energy_balance_error", "",
     "energy imbalance (work in - stored - dissipated) over the largest magnitude any term has reached", false, false,
-    false, {}, Reduction::max, [](const Model&, const Engine& e, const HistoryTarget&) { return e.energy().error; }}};
+    false, {}, Reduction::global, [](const Model&, const Engine& e, const HistoryTarget&) { return e.energy().error; }}};
 const HistoryQuantityRegistrar time_step_q{HistoryQuantity{
-    "time_step", "s", "time step", false, false, false, {}, Reduction::min,
+    "time_step", "s", "time step", false, false, false, {}, Reduction::global,
     [](const Model&, const Engine& e, const HistoryTarget&) { return e.dt(); }}};
 
 }  // namespace

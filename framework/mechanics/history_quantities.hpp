@@ -27,13 +27,12 @@ struct HistoryTarget {
   bool segment = false;
 };
 
-// How the values of the processes of a parallel run combine into the history's value. Declared
-// so that each quantity states it now; a parallel recorder will apply it.
+// Where the value of a quantity comes from in a domain-decomposed run (partition.hpp); the
+// recorder (framework/simulation/recorder.cpp) gets it accordingly.
 enum class Reduction {
-  sum,    // every process holds a part (e.g. contact forces of its contacts)
-  max,    // every process holds a bound, the largest one applies
-  min,    // e.g. the time step: the smallest one applies
-  owner,  // only the process owning the block holds it
+  global,  // the engine has combined the processes' parts already: the same on every process
+  owner,   // held by the engine of the process owning the target block (its contact forces)
+  state,   // read from the model's state, made current on the recording process first
 };
 
 struct HistoryQuantity {
@@ -44,7 +43,7 @@ struct HistoryQuantity {
   bool rigid_only = false;              // the block must be rigid
   bool needs_face = false;              // `face` names a face of the block (its gridpoints are measured)
   std::vector<std::string> components;  // accepted `component`s, the first is the default; empty: none
-  Reduction reduction = Reduction::sum;
+  Reduction reduction = Reduction::state;
   std::function<double(const Model&, const Engine&, const HistoryTarget&)> measure;
   bool needs_point = false;    // `at` (and optionally `to`) locate what is measured
   bool takes_segment = false;  // `to` may be given: averaged over the joint segment at..to

@@ -108,7 +108,7 @@ double velocity_at(const Model& m, const Engine&, const HistoryTarget& t) { retu
 HistoryQuantity by_location(std::string name, std::string unit, std::string description, std::vector<std::string> comps,
                             std::function<double(const Model&, const Engine&, const HistoryTarget&)> f, bool segment) {
   HistoryQuantity q{std::move(name), std::move(unit), std::move(description), false, false, false, std::move(comps),
-                    Reduction::owner, std::move(f)};
+                    Reduction::state, std::move(f)};
   q.needs_point = true;
   q.takes_segment = segment;
   return q;

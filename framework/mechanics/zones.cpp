@@ -141,8 +141,8 @@ int add_deformable_block(Model& m, const TriMesh& mesh, int material, const std:
 }
 
 void zone_forces(Model& m, double dt, double beta_stiffness) {
-  for (size_t iz = 0; iz < m.zones.size(); ++iz) {
-    Zone& z = m.zones[iz];
+  for_owned_zones(m, [&](int iz) {
+    Zone& z = m.zones[static_cast<std::size_t>(iz)];
     GridPoint& g0 = m.gp[z.n[0]];
     GridPoint& g1 = m.gp[z.n[1]];
     GridPoint& g2 = m.gp[z.n[2]];
@@ -197,15 +197,16 @@ void zone_forces(Model& m, double dt, double beta_stiffness) {
       g[k]->f.x() -= 0.5 * (b[k] * s[0] + c[k] * s[2]);
       g[k]->f.y() -= 0.5 * (c[k] * s[1] + b[k] * s[2]);
     }
-  }
+  });
 }
 
 void zone_stiffness(Model& m) {
-  for (const Zone& z : m.zones) {
+  for_owned_zones(m, [&](int iz) {
+    const Zone& z = m.zones[static_cast<std::size_t>(iz)];
     GridPoint* g[3] = {&m.gp[z.n[0]], &m.gp[z.n[1]], &m.gp[z.n[2]]};
     double b[3], c[3];
     const double a2 = cst_gradients(g[0]->x, g[1]->x, g[2]->x, b, c);
-    if (!(a2 > 0.0)) continue;  // zone_forces reports inverted zones
+    if (!(a2 > 0.0)) return;  // zone_forces reports inverted zones
     const RockMaterialBase& mat = *m.materials[z.material];
     const double a1 = mat.bulk_modulus() + 4.0 * mat.shear_modulus() / 3.0;
     const double al = mat.bulk_modulus() - 2.0 * mat.shear_modulus() / 3.0;
@@ -224,7 +225,7 @@ void zone_stiffness(Model& m) {
       }
       g[mi]->stiffness += std::max(row_x, row_y);
     }
-  }
+  });
 }
 
 }  // namespace rockdem

@@ -70,6 +70,14 @@ Renumbering remove_blocks(Model& m, const std::vector<int>& blocks) {
   m.zones = std::move(zones);
   m.blocks = std::move(kept);
   m.contacts.restore(std::move(contacts));
+  // A decomposed model keeps each remaining block's owner; ghosts are found again at the next
+  // contact detection.
+  if (m.part.decomposed()) {
+    std::vector<int> owner;
+    for (std::size_t b = 0; b < gone.size(); ++b)
+      if (!gone[b]) owner.push_back(m.part.owner[b]);
+    assign_owners(m, std::move(owner), m.part.rank);
+  }
   return r;
 }
 

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "framework/model/contact.hpp"
+#include "framework/model/partition.hpp"
 #include "framework/core/types.hpp"
 
 namespace rockdem {
@@ -80,11 +81,38 @@ struct Model {
   double time = 0.0;
   long step = 0;
   double thickness = 1.0;  // out-of-plane thickness [m] (2D: forces are per metre)
+  Partition part;          // what this process computes (partition.hpp); empty: everything
 
   Model();
   ~Model();
   Model(Model&&) noexcept;
   Model& operator=(Model&&) noexcept;
 };
+
+namespace detail {
+// f(i) for i in [0, n) in a serial run, else for i in the ranges.
+template <class F>
+void for_each_in(bool decomposed, std::size_t n, const std::vector<std::array<int, 2>>& ranges, F&& f) {
+  if (!decomposed) {
+    for (int i = 0, end = static_cast<int>(n); i < end; ++i) f(i);
+    return;
+  }
+  for (const auto& r : ranges)
+    for (int i = r[0]; i < r[1]; ++i) f(i);
+}
+}  // namespace detail
+
+template <class F>
+void for_owned_gridpoints(const Model& m, F&& f) {
+  detail::for_each_in(m.part.decomposed(), m.gp.size(), m.part.gp_ranges, f);
+}
+template <class F>
+void for_owned_zones(const Model& m, F&& f) {
+  detail::for_each_in(m.part.decomposed(), m.zones.size(), m.part.zone_ranges, f);
+}
+template <class F>
+void for_owned_blocks(const Model& m, F&& f) {
+  detail::for_each_in(m.part.decomposed(), m.blocks.size(), m.part.block_ranges, f);
+}
 
 }  // namespace rockdem

@@ -1,6 +1,8 @@
 #include "framework/parallel/mpi_env.hpp"
 
+#include <chrono>
 #include <cstdlib>
+#include <thread>
 
 #include <mpi.h>
 
@@ -39,15 +41,30 @@ MpiEnvironment::~MpiEnvironment() {
 
 int MpiEnvironment::finish(int code) {
   if (!active_) return code;
+  // Open MPI waits by polling at full speed; a process that finished early (a command only
+  // process 0 runs) polls this non-blocking reduction gently instead.
   int global = code;
-  MPI_Allreduce(&code, &global, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+  MPI_Request req;
+  MPI_Iallreduce(&code, &global, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD, &req);
+  for (int done = 0;;) {
+    MPI_Test(&req, &done, MPI_STATUS_IGNORE);
+    if (done) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
   MPI_Finalize();
   finalized_ = true;
   return global;
 }
 
 void MpiEnvironment::barrier() const {
-  if (active_) MPI_Barrier(MPI_COMM_WORLD);
+  if (!active_) return;
+  MPI_Request req;
+  MPI_Ibarrier(MPI_COMM_WORLD, &req);
+  for (int done = 0;;) {
+    MPI_Test(&req, &done, MPI_STATUS_IGNORE);
+    if (done) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
 }
 
 }  // namespace rockdem

@@ -1,6 +1,7 @@
 #pragma once
 // MPI lives here (framework/parallel/) and nowhere else. The rest of rockdem asks this object for
-// its rank and size. Until domain decomposition lands, rank 0 runs the model and other ranks wait.
+// its rank and size. `rockdem run` shares a model among the processes (mpi_communication.hpp);
+// the other commands run on process 0 while the others wait without spinning.
 namespace rockdem {
 
 class MpiEnvironment {

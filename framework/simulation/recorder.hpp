@@ -14,7 +14,7 @@ namespace rockdem {
 
 class Recorder {
  public:
-  Recorder(const Case& c, const Engine& e, const std::filesystem::path& history_file);
+  Recorder(Case& c, const Engine& e, const std::filesystem::path& history_file);
 
   void stage_started(int index, const std::string& name);
   void sample();
@@ -28,11 +28,12 @@ class Recorder {
  private:
   double value(const HistorySpec& s) const;
 
-  const Case& c_;
+  Case& c_;
   const Engine& e_;
   History h_;
   int stage_id_ = 0;
   int stage_ = 0;
+  bool needs_state_ = false;  // some quantity is read from the model's state (Reduction::state)
   std::optional<DirectShearRecorder> direct_shear_;
 };
 

@@ -99,12 +99,12 @@ class Progress {
     if (!quiet_) std::cout << "rockdem: " << c_.title << "\n  case: " << c_.file << "\n  output: " << out.string() << "\n";
   }
 
-  void stage_started(const Engine& e, const StageRunner& stage, std::size_t index) const {
+  void stage_started(const Engine& e, const StageRunner& stage, std::size_t index, long contacts) const {
     if (quiet_) return;
     const StageSpec& st = stage.spec();
     std::cout << "stage " << index + 1 << "/" << c_.stages.size() << " '" << st.name << "': time step " << e.dt() << " s, "
               << (st.until == StageSpec::Until::equilibrium ? "until equilibrium" : std::to_string(stage.planned_steps()) + " steps")
-              << ", " << c_.model.contacts.items.size() << " contacts\n";
+              << ", " << contacts << " contacts\n";
     for (const auto& bc : e.conditions())
       if (bc->active_in(st.name)) std::cout << "  " << bc->describe(c_.model) << "\n";
   }
@@ -160,7 +160,37 @@ struct Run {
   Recorder& rec;
   VtkSeries& vtk;
   Progress& progress;
+  Communication& comm;
+  bool root() const { return comm.root(); }
 };
+
+// Runs `write` on process 0 with the whole model's state current there (a decomposed run collects
+// it first and then goes back to stepping with its own contacts); a serial run just writes.
+template <class F>
+void with_whole_model(Run& r, F&& write) {
+  if (!r.c.model.part.decomposed()) {
+    write();
+    return;
+  }
+  std::vector<Contact> local;
+  r.comm.collect(r.c.model, 0, &local);
+  if (!r.root()) return;
+  write();
+  r.c.model.contacts.restore(std::move(local));
+}
+
+// Contacts in the whole model (each counted by the process owning its point).
+long contact_count(const Run& r) {
+  const Model& m = r.c.model;
+  double n = 0.0;
+  for (const Contact& c : m.contacts.items) n += m.part.owns(m.gp[static_cast<std::size_t>(c.point)].block) ? 1.0 : 0.0;
+  r.comm.sum(&n, 1);
+  return static_cast<long>(n);
+}
+
+void write_vtk(Run& r) {
+  with_whole_model(r, [&] { r.vtk.write(r.c.model); });
+}
 
 // The state boundary conditions carry from stage to stage (forces held by quiet boundaries, the
 // free field's motion), by the condition's position in the case.
@@ -186,7 +216,7 @@ void restore_condition_states(Engine& e, const std::string& restart) {
 // with each motion's acceleration, velocity and displacement after processing and scaling.
 void write_stage_motions(const Run& r, std::size_t index) {
   const StageSpec& st = r.c.stages[index];
-  if (st.motions.empty()) return;
+  if (st.motions.empty() || !r.root()) return;
   const fs::path path = r.out / ("motion_" + std::to_string(index + 1) + "_" + st.name + ".csv");
   std::ofstream os(path);
   os << "# rockdem: ground motions applied in stage '" << st.name << "' (time from the stage start)\n";
@@ -220,13 +250,19 @@ void write_stage_motions(const Run& r, std::size_t index) {
 }
 
 // The checkpoint a restart continues from (<out>/stage_<n>_<name>.h5).
-void write_stage_checkpoint(const Run& r, std::size_t index) {
+void write_stage_checkpoint(Run& r, std::size_t index) {
   const StageSpec& st = r.c.stages[index];
-  write_checkpoint(r.c.model, (r.out / ("stage_" + std::to_string(index + 1) + "_" + st.name + ".h5")).string(),
-                   {{"stages_completed", static_cast<double>(index + 1)}}, condition_states(r.engine));
+  with_whole_model(r, [&] {
+    write_checkpoint(r.c.model, (r.out / ("stage_" + std::to_string(index + 1) + "_" + st.name + ".h5")).string(),
+                     {{"stages_completed", static_cast<double>(index + 1)}}, condition_states(r.engine));
+  });
 }
 
 void run_stage(Run& r, const StageJointModels& joints, std::size_t index) {
+  // A stage starts from the whole model's state on every process: an excavation removes blocks
+  // and relaxes the forces of their contacts, and boundaries that hold their static reactions
+  // take them from the forces of every block they touch.
+  if (r.c.model.part.decomposed()) r.comm.collect(r.c.model, -1);
   std::unique_ptr<BoundaryCondition> relax;
   excavate(r.c, r.engine.conditions(), r.c.stages[index], &relax);
   if (relax) r.engine.add_condition(std::move(relax));
@@ -234,8 +270,8 @@ void run_stage(Run& r, const StageJointModels& joints, std::size_t index) {
   write_stage_motions(r, index);
   r.rec.stage_started(static_cast<int>(index) + 1, stage.spec().name);
   const long vtk_every = r.c.output.vtk_interval > 0 ? r.c.output.vtk_interval : std::max(100L, stage.planned_steps() / 25);
-  r.progress.stage_started(r.engine, stage, index);
-  r.vtk.write(r.c.model);
+  r.progress.stage_started(r.engine, stage, index, contact_count(r));
+  write_vtk(r);
   r.rec.sample();
   r.progress.stepping_started();
   const long chunk = 10;
@@ -244,7 +280,7 @@ void run_stage(Run& r, const StageJointModels& joints, std::size_t index) {
     r.engine.run_steps(chunk);
     n += chunk;
     if (n % r.c.output.history_interval < chunk) r.rec.sample();
-    if (n % vtk_every < chunk) r.vtk.write(r.c.model);
+    if (n % vtk_every < chunk) write_vtk(r);
     // The history on disk keeps up with what the user has been shown, and, quiet or not, is never
     // more than a few seconds behind, so a killed run leaves a readable history.
     const bool shown = r.progress.steps_done(r.engine, stage, n);
@@ -252,10 +288,12 @@ void run_stage(Run& r, const StageJointModels& joints, std::size_t index) {
       r.rec.flush();
       last_flush = Clock::now();
     }
-    if (const int sig = interrupt_signal().load()) throw Interrupted(sig, "");
+    // Every process stops at the same step (a signal may reach them a little apart).
+    const int sig = r.c.model.part.decomposed() ? static_cast<int>(r.comm.max(interrupt_signal().load())) : interrupt_signal().load();
+    if (sig) throw Interrupted(sig, "");
   }
   r.rec.sample();
-  r.vtk.write(r.c.model);
+  write_vtk(r);
   write_stage_checkpoint(r, index);
 }
 
@@ -264,12 +302,14 @@ void run_stage(Run& r, const StageJointModels& joints, std::size_t index) {
 InstabilityError stopped_unstable(Run& r, const InstabilityError& e) {
   r.engine.restore(r.engine.last_good());
   const auto path = (r.out / "last_good_state.h5").string();
-  write_checkpoint(r.c.model, path);
-  r.vtk.write(r.c.model);
+  with_whole_model(r, [&] {
+    write_checkpoint(r.c.model, path);
+    r.vtk.write(r.c.model);
+  });
   r.rec.close();
   // The joint record up to here is kept, marked incomplete.
   std::string record;
-  if (DirectShearRecorder* ds = r.rec.direct_shear()) {
+  if (DirectShearRecorder* ds = r.rec.direct_shear(); ds && r.root()) {
     const fs::path partial = ds->write_incomplete(r.out);
     if (!partial.empty()) record = ", the joint record up to then in " + partial.string();
   }
@@ -281,10 +321,12 @@ InstabilityError stopped_unstable(Run& r, const InstabilityError& e) {
 // far and the joint record so far, and returns the error to throw, saying how to go on.
 Interrupted stopped_by_signal(Run& r, int sig, std::size_t stage_index) {
   const auto path = (r.out / "interrupted_state.h5").string();
-  write_checkpoint(r.c.model, path, {{"stages_completed", static_cast<double>(stage_index)}, {"interrupted", 1.0}});
-  r.vtk.write(r.c.model);
+  with_whole_model(r, [&] {
+    write_checkpoint(r.c.model, path, {{"stages_completed", static_cast<double>(stage_index)}, {"interrupted", 1.0}});
+    r.vtk.write(r.c.model);
+  });
   r.rec.close();
-  if (DirectShearRecorder* ds = r.rec.direct_shear()) ds->write_incomplete(r.out);
+  if (DirectShearRecorder* ds = r.rec.direct_shear(); ds && r.root()) ds->write_incomplete(r.out);
   // Restarts continue from the end of a stage (read_restart), so the way on is the last stage
   // checkpoint; the interrupted state is kept for inspection.
   std::string how;
@@ -302,10 +344,10 @@ Interrupted stopped_by_signal(Run& r, int sig, std::size_t stage_index) {
 
 // The outputs of a completed run, its summary and its result.
 RunResult finish(Run& r) {
-  write_checkpoint(r.c.model, (r.out / "final_state.h5").string());
+  with_whole_model(r, [&] { write_checkpoint(r.c.model, (r.out / "final_state.h5").string()); });
   r.rec.close();
   DirectShearRecorder* ds = r.rec.direct_shear();
-  const fs::path csv = ds ? ds->write(r.out) : fs::path();
+  const fs::path csv = ds && r.root() ? ds->write(r.out) : fs::path();
   r.progress.finished(r.out, csv);
   RunResult result;
   result.history = std::move(r.rec.history());
@@ -316,12 +358,13 @@ RunResult finish(Run& r) {
 
 }  // namespace
 
-RunResult run_case(Case& c, const fs::path& out, bool quiet, const std::string& restart) {
-  fs::create_directories(out);
+RunResult run_case(Case& c, const fs::path& out, bool quiet, const std::string& restart, Communication& comm) {
+  if (comm.root()) fs::create_directories(out);
+  quiet = quiet || !comm.root();
   const std::size_t first_stage = read_restart(c, restart);
   const StageJointModels joints(c);
   if (first_stage < c.stages.size()) joints.put_in_force(c, first_stage);
-  Engine engine(c.model, c.settings);
+  Engine engine(c.model, c.settings, comm);
   for (auto& bc : c.conditions) engine.add_condition(std::move(bc));
   c.conditions.clear();
   // A restart never overwrites the history of the run it continues.
@@ -335,7 +378,7 @@ RunResult run_case(Case& c, const fs::path& out, bool quiet, const std::string& 
     progress.restarted(restart, first_stage);
   }
   progress.run_started(out);
-  Run r{c, out, engine, rec, vtk, progress};
+  Run r{c, out, engine, rec, vtk, progress, comm};
   // A restart reads the state the field started; a new run starts from the field.
   if (restart.empty() && c.in_situ) {
     const InSituReport rep = initialise_in_situ(c.model, *c.in_situ, c.settings.detection);
@@ -343,6 +386,14 @@ RunResult run_case(Case& c, const fs::path& out, bool quiet, const std::string& 
       std::cout << "in-situ stress: " << rep.zones << " zones, " << rep.contacts << " contacts pre-loaded (largest error "
                 << rep.worst_error << " Pa" << (rep.at_strength ? ", " + std::to_string(rep.at_strength) + " at their shear strength" : "")
                 << ")\n";
+  }
+  if (comm.size() > 1) {
+    const DecompositionReport d = comm.decompose(c.model, 2.0 * c.settings.detection.distance);
+    if (!quiet) {
+      std::cout << "decomposed over " << d.processes << " processes (METIS, " << d.seconds << " s): blocks";
+      for (long b : d.blocks) std::cout << " " << b;
+      std::cout << "; " << d.cut_pairs << " block pairs split; load imbalance " << d.imbalance << "\n";
+    }
   }
   std::size_t si = first_stage;
   try {

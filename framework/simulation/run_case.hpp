@@ -4,6 +4,7 @@
 #include "framework/io/case.hpp"
 #include "framework/io/history.hpp"
 #include "framework/io/measurement_csv.hpp"
+#include "framework/model/communication.hpp"
 
 namespace rockdem {
 
@@ -19,6 +20,9 @@ struct RunResult {
 // A checkpoint is written at the end of every stage (<out>/stage_<n>_<name>.h5, with the number of
 // completed stages); `restart` names one to continue from: the model state is read back and the
 // run goes on with the next stage, repeating exactly what the uninterrupted run would do.
-RunResult run_case(Case& c, const std::filesystem::path& out, bool quiet, const std::string& restart = "");
+// `comm`: the processes of a domain-decomposed run (framework/parallel/); every process calls
+// run_case with the same case, process 0 writes the outputs.
+RunResult run_case(Case& c, const std::filesystem::path& out, bool quiet, const std::string& restart = "",
+                   Communication& comm = serial_communication());
 
 }  // namespace rockdem

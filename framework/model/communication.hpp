@@ -1,0 +1,70 @@
+#pragma once
+// The engine's one view of the other processes of a domain-decomposed run (docs/parallel.md).
+// This base class is the serial run: one process holds and computes every block, so every verb is
+// the identity. framework/parallel/mpi_communication.hpp implements it with MPI; nothing below
+// that layer sees a communicator.
+//
+// The verbs follow LAMMPS's Comm: `borders` finds, after the blocks have moved, which blocks each
+// process needs as ghosts (those within contact reach of its own) and `forward` sends the ghosts'
+// positions and velocities every step. Contacts between blocks of two processes are computed on
+// both (LAMMPS's "newton off"), so no contact force needs to travel back: every owned gridpoint
+// sums its forces from the same contacts in the same order as a serial run, and a decomposed run
+// gives the serial run's results bit for bit. Blocks keep their owner for the whole run: a block
+// that moves far only changes which processes hold it as a ghost.
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace rockdem {
+
+struct Model;
+struct Contact;
+
+// How the blocks were shared out, for the run's report.
+struct DecompositionReport {
+  int processes = 1;
+  std::vector<long> blocks, weight;  // per process: blocks owned, their work weight
+  long cut_pairs = 0;                // block pairs within contact reach split between processes
+  double imbalance = 1.0;            // largest weight over the mean
+  double seconds = 0.0;              // wall time of the partitioning
+};
+
+class Communication {
+ public:
+  virtual ~Communication() = default;
+  virtual int rank() const { return 0; }
+  virtual int size() const { return 1; }
+  bool root() const { return rank() == 0; }
+
+  // Shares the blocks among the processes (partition.hpp); a serial run keeps them all.
+  virtual DecompositionReport decompose(Model&, double /*margin*/) { return {}; }
+  // After motion, before contact detection: marks as ghosts the blocks of other processes whose
+  // boxes, grown by `margin`, reach the boxes of this process's blocks, and sets up what
+  // forward() sends and receives.
+  virtual void borders(Model&, double /*margin*/) {}
+  // Positions and velocities of the ghosts' boundary gridpoints (and of rigid ghosts' centroids).
+  virtual void forward(Model&) {}
+
+  // Global sums (in place), minimum and maximum, the same on every process. Sums are formed in
+  // process order, so they are the same from run to run on a given process count.
+  virtual void sum(double* /*values*/, int /*n*/) const {}
+  virtual double min(double v) const { return v; }
+  virtual double max(double v) const { return v; }
+  // The largest value of all processes and the (smallest) index that goes with it.
+  virtual std::pair<double, int> max_at(double v, int index) const { return {v, index}; }
+  // The first non-empty message of all processes (in rank order): an error found on one process
+  // is raised on all of them, so that none is left waiting for the others.
+  virtual std::string first_message(const std::string& message) const { return message; }
+
+  // Makes the whole model current on process `root` (on every process for root < 0): each
+  // process sends the state of the blocks it owns (their gridpoints, zones and motion) and of
+  // the contacts it owns (those whose point lies on one of its blocks). On the receiving side
+  // the contact list becomes every contact of the model, sorted by key; `local_contacts` gets the
+  // list it replaced (so that a process can go on stepping with it after writing output).
+  virtual void collect(Model&, int /*root*/, std::vector<Contact>* /*local_contacts*/ = nullptr) {}
+};
+
+// The serial run's communication, for callers that have none of their own.
+Communication& serial_communication();
+
+}  // namespace rockdem

@@ -1,0 +1,381 @@
+#include "framework/parallel/mpi_communication.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cstring>
+#include <limits>
+#include <map>
+#include <numeric>
+#include <set>
+#include <tuple>
+
+#include <CGAL/Box_intersection_d/Box_with_info_d.h>
+#include <CGAL/box_intersection_d.h>
+#include <metis.h>
+#include <mpi.h>
+
+#include "framework/core/error.hpp"
+#include "framework/model/state_fields.hpp"
+
+namespace rockdem {
+namespace {
+
+// A block's box, grown by the margin, as CGAL's box intersection takes it, with the block's position.
+using BlockBox = CGAL::Box_intersection_d::Box_with_info_d<double, 2, int>;
+
+BlockBox block_box(const Model& m, int b, double margin) {
+  double lo[2] = {std::numeric_limits<double>::max(), std::numeric_limits<double>::max()};
+  double hi[2] = {-lo[0], -lo[1]};
+  for (int g : m.blocks[static_cast<std::size_t>(b)].boundary) {
+    const Vec2& x = m.gp[static_cast<std::size_t>(g)].x;
+    for (int d = 0; d < 2; ++d) {
+      lo[d] = std::min(lo[d], x[d] - margin);
+      hi[d] = std::max(hi[d], x[d] + margin);
+    }
+  }
+  return BlockBox(lo, hi, b);
+}
+
+// Calls f(i, j) once for every pair of overlapping boxes.
+template <class F>
+void overlapping_pairs(std::vector<BlockBox>& boxes, F&& f) {
+  CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), [&](const BlockBox& a, const BlockBox& b) {
+    f(a.info(), b.info());
+  });
+}
+
+// Appends the fields of `item` (those of role `state` only, or all) to `out` / reads them back,
+// through the model's field tables (state_fields.hpp): a field added there travels too.
+template <class Item, std::size_t N>
+void pack(const fields::Field<Item> (&table)[N], const Item& item, bool state_only, std::vector<std::byte>& out) {
+  for (const auto& f : table) {
+    if (state_only && f.role != fields::Role::state) continue;
+    const std::size_t at = out.size();
+    out.resize(at + f.bytes());
+    f.get(item, out.data() + at);
+  }
+}
+template <class Item, std::size_t N>
+const std::byte* unpack(const fields::Field<Item> (&table)[N], Item& item, bool state_only, const std::byte* in) {
+  for (const auto& f : table) {
+    if (state_only && f.role != fields::Role::state) continue;
+    f.set(item, in);
+    in += f.bytes();
+  }
+  return in;
+}
+
+template <class T>
+void put(std::vector<std::byte>& out, T v) {
+  const std::size_t at = out.size();
+  out.resize(at + sizeof v);
+  std::memcpy(out.data() + at, &v, sizeof v);
+}
+template <class T>
+T take(const std::byte*& in) {
+  T v;
+  std::memcpy(&v, in, sizeof v);
+  in += sizeof v;
+  return v;
+}
+
+bool owned_contact(const Model& m, const Contact& c) { return m.part.owns(m.gp[static_cast<std::size_t>(c.point)].block); }
+
+// The order of a serial run's contact list: block pairs by position (lower, higher), the lower
+// block's points first, then each point's place in its boundary loop and its side (detection.cpp
+// visits them so). A collected list in this order is the serial run's list.
+bool serial_order(const Model& m, const Contact& a, const Contact& b) {
+  auto rank_of = [&](const Contact& c) {
+    const int pa = m.gp[static_cast<std::size_t>(c.point)].block, ob = c.other;
+    return std::make_tuple(std::min(pa, ob), std::max(pa, ob), pa > ob, c.point_loop, c.key.side);
+  };
+  return rank_of(a) < rank_of(b);
+}
+
+}  // namespace
+
+std::unique_ptr<Communication> make_communication() {
+  int started = 0, finished = 0;
+  MPI_Initialized(&started);
+  MPI_Finalized(&finished);
+  if (!started || finished) return nullptr;
+  int size = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  if (size < 2) return nullptr;
+  return std::make_unique<MpiCommunication>();
+}
+
+MpiCommunication::MpiCommunication() {
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
+  MPI_Comm_size(MPI_COMM_WORLD, &size_);
+}
+
+DecompositionReport MpiCommunication::decompose(Model& m, double margin) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const int nb = static_cast<int>(m.blocks.size());
+  DecompositionReport rep;
+  rep.processes = size_;
+  std::vector<int> owner(static_cast<std::size_t>(nb), 0);
+  // The graph: blocks, and the pairs within contact reach; weights from the work each carries.
+  std::vector<BlockBox> boxes;
+  boxes.reserve(static_cast<std::size_t>(nb));
+  for (int b = 0; b < nb; ++b) boxes.push_back(block_box(m, b, margin));
+  std::vector<std::set<int>> adj(static_cast<std::size_t>(nb));
+  overlapping_pairs(boxes, [&](int i, int j) {
+    adj[static_cast<std::size_t>(i)].insert(j);
+    adj[static_cast<std::size_t>(j)].insert(i);
+  });
+  std::map<std::pair<int, int>, idx_t> contacts;  // per block pair, the contacts it has now
+  std::vector<idx_t> vwgt(static_cast<std::size_t>(nb));
+  for (int b = 0; b < nb; ++b) {
+    const Block& B = m.blocks[static_cast<std::size_t>(b)];
+    vwgt[static_cast<std::size_t>(b)] = 1 + B.n_zone + B.n_gp;
+  }
+  for (const Contact& c : m.contacts.items) {
+    const int a = m.gp[static_cast<std::size_t>(c.point)].block, o = c.other;
+    ++contacts[{std::min(a, o), std::max(a, o)}];
+    ++vwgt[static_cast<std::size_t>(a)];
+  }
+  if (nb <= size_) {
+    // No more blocks than processes: one each, and the processes left over wait.
+    for (int b = 0; b < nb; ++b) owner[static_cast<std::size_t>(b)] = b;
+  } else if (rank_ == 0) {
+    std::vector<idx_t> xadj{0}, adjncy, adjwgt;
+    for (int b = 0; b < nb; ++b) {
+      for (int o : adj[static_cast<std::size_t>(b)]) {
+        adjncy.push_back(o);
+        const auto it = contacts.find({std::min(b, o), std::max(b, o)});
+        // A pair without contacts yet still costs its narrow-phase checks.
+        adjwgt.push_back(1 + (it == contacts.end() ? 0 : it->second));
+      }
+      xadj.push_back(static_cast<idx_t>(adjncy.size()));
+    }
+    idx_t n = nb, ncon = 1, parts = size_, cut = 0;
+    std::vector<idx_t> part(static_cast<std::size_t>(nb), 0);
+    idx_t options[METIS_NOPTIONS];
+    METIS_SetDefaultOptions(options);
+    options[METIS_OPTION_SEED] = 1;  // the same partition every run
+    const int status = METIS_PartGraphKway(&n, &ncon, xadj.data(), adjncy.data(), vwgt.data(), nullptr, adjwgt.data(), &parts,
+                                           nullptr, nullptr, options, &cut, part.data());
+    if (status != METIS_OK) throw std::runtime_error("METIS could not partition the block graph (status " + std::to_string(status) + ")");
+    for (int b = 0; b < nb; ++b) owner[static_cast<std::size_t>(b)] = static_cast<int>(part[static_cast<std::size_t>(b)]);
+  }
+  MPI_Bcast(owner.data(), nb, MPI_INT, 0, MPI_COMM_WORLD);
+  assign_owners(m, owner, rank_);
+  rep.blocks.assign(static_cast<std::size_t>(size_), 0);
+  rep.weight.assign(static_cast<std::size_t>(size_), 0);
+  for (int b = 0; b < nb; ++b) {
+    ++rep.blocks[static_cast<std::size_t>(owner[static_cast<std::size_t>(b)])];
+    rep.weight[static_cast<std::size_t>(owner[static_cast<std::size_t>(b)])] += vwgt[static_cast<std::size_t>(b)];
+    for (int o : adj[static_cast<std::size_t>(b)])
+      if (o > b && owner[static_cast<std::size_t>(o)] != owner[static_cast<std::size_t>(b)]) ++rep.cut_pairs;
+  }
+  const double total = static_cast<double>(std::accumulate(rep.weight.begin(), rep.weight.end(), 0L));
+  rep.imbalance = total > 0.0 ? static_cast<double>(*std::max_element(rep.weight.begin(), rep.weight.end())) * size_ / total : 1.0;
+  rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return rep;
+}
+
+void MpiCommunication::borders(Model& m, double margin) {
+  Partition& p = m.part;
+  if (!p.decomposed()) return;
+  // Every process's boxes of its own blocks, to every process: [block, lo x, lo y, hi x, hi y].
+  std::vector<double> mine;
+  mine.reserve(5 * p.owned_blocks.size());
+  for (int b : p.owned_blocks) {
+    const BlockBox box = block_box(m, b, margin);
+    mine.insert(mine.end(), {static_cast<double>(b), box.min_coord(0), box.min_coord(1), box.max_coord(0), box.max_coord(1)});
+  }
+  const int count = static_cast<int>(mine.size());
+  std::vector<int> counts(static_cast<std::size_t>(size_)), displs(static_cast<std::size_t>(size_), 0);
+  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD);
+  for (int r = 1; r < size_; ++r) displs[static_cast<std::size_t>(r)] = displs[static_cast<std::size_t>(r) - 1] + counts[static_cast<std::size_t>(r) - 1];
+  std::vector<double> all(static_cast<std::size_t>(displs.back() + counts.back()));
+  MPI_Allgatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, MPI_COMM_WORLD);
+  std::vector<BlockBox> boxes;
+  boxes.reserve(all.size() / 5);
+  for (std::size_t k = 0; k < all.size(); k += 5) {
+    double lo[2] = {all[k + 1], all[k + 2]}, hi[2] = {all[k + 3], all[k + 4]};
+    boxes.emplace_back(lo, hi, static_cast<int>(all[k]));
+  }
+  // Pairs across two processes, one of them this one: the other's block is a ghost here, ours a
+  // ghost there. Both sides find the same pairs from the same boxes, so the lists agree.
+  std::map<int, std::pair<std::set<int>, std::set<int>>> lists;  // rank -> (send, recv)
+  overlapping_pairs(boxes, [&](int i, int j) {
+    const int oi = p.owner[static_cast<std::size_t>(i)], oj = p.owner[static_cast<std::size_t>(j)];
+    if (oi == oj) return;
+    if (oi == rank_) {
+      lists[oj].first.insert(i);
+      lists[oj].second.insert(j);
+    } else if (oj == rank_) {
+      lists[oi].first.insert(j);
+      lists[oi].second.insert(i);
+    }
+  });
+  for (std::size_t b = 0; b < p.role.size(); ++b)
+    if (p.role[b] == Partition::ghost) p.role[b] = Partition::elsewhere;
+  std::set<int> ghosts;
+  neighbours_.clear();
+  for (auto& [r, sr] : lists) {
+    Neighbour n;
+    n.rank = r;
+    n.send.assign(sr.first.begin(), sr.first.end());
+    n.recv.assign(sr.second.begin(), sr.second.end());
+    ghosts.insert(sr.second.begin(), sr.second.end());
+    neighbours_.push_back(std::move(n));
+  }
+  p.ghost_blocks.assign(ghosts.begin(), ghosts.end());
+  for (int b : p.ghost_blocks) p.role[static_cast<std::size_t>(b)] = Partition::ghost;
+}
+
+void MpiCommunication::forward(Model& m) {
+  if (!m.part.decomposed() || neighbours_.empty()) return;
+  // Per block: its motion (centroid, velocity, angle, spin), then each boundary gridpoint's
+  // position and velocity, in loop order.
+  auto block_size = [&](int b) { return 6 + 4 * m.blocks[static_cast<std::size_t>(b)].boundary.size(); };
+  std::vector<MPI_Request> req;
+  req.reserve(2 * neighbours_.size());
+  for (Neighbour& n : neighbours_) {
+    std::size_t size = 0;
+    for (int b : n.recv) size += block_size(b);
+    n.recv_buf.resize(size);
+    req.emplace_back();
+    MPI_Irecv(n.recv_buf.data(), static_cast<int>(size), MPI_DOUBLE, n.rank, 7, MPI_COMM_WORLD, &req.back());
+  }
+  for (Neighbour& n : neighbours_) {
+    n.send_buf.clear();
+    for (int b : n.send) {
+      const Block& B = m.blocks[static_cast<std::size_t>(b)];
+      n.send_buf.insert(n.send_buf.end(), {B.xc.x(), B.xc.y(), B.vc.x(), B.vc.y(), B.theta, B.omega});
+      for (int g : B.boundary) {
+        const GridPoint& G = m.gp[static_cast<std::size_t>(g)];
+        n.send_buf.insert(n.send_buf.end(), {G.x.x(), G.x.y(), G.v.x(), G.v.y()});
+      }
+    }
+    req.emplace_back();
+    MPI_Isend(n.send_buf.data(), static_cast<int>(n.send_buf.size()), MPI_DOUBLE, n.rank, 7, MPI_COMM_WORLD, &req.back());
+  }
+  MPI_Waitall(static_cast<int>(req.size()), req.data(), MPI_STATUSES_IGNORE);
+  for (const Neighbour& n : neighbours_) {
+    const double* in = n.recv_buf.data();
+    for (int b : n.recv) {
+      Block& B = m.blocks[static_cast<std::size_t>(b)];
+      B.xc = Vec2(in[0], in[1]);
+      B.vc = Vec2(in[2], in[3]);
+      B.theta = in[4];
+      B.omega = in[5];
+      in += 6;
+      for (int g : B.boundary) {
+        GridPoint& G = m.gp[static_cast<std::size_t>(g)];
+        G.x = Vec2(in[0], in[1]);
+        G.v = Vec2(in[2], in[3]);
+        in += 4;
+      }
+    }
+  }
+}
+
+void MpiCommunication::sum(double* values, int n) const {
+  // Reduced on process 0 in rank order and sent back, so that the sum is the same in every run.
+  std::vector<double> all(rank_ == 0 ? static_cast<std::size_t>(n) * static_cast<std::size_t>(size_) : 0);
+  MPI_Gather(values, n, MPI_DOUBLE, all.data(), n, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+  if (rank_ == 0)
+    for (int k = 0; k < n; ++k) {
+      double s = 0.0;
+      for (int r = 0; r < size_; ++r) s += all[static_cast<std::size_t>(r) * static_cast<std::size_t>(n) + static_cast<std::size_t>(k)];
+      values[k] = s;
+    }
+  MPI_Bcast(values, n, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+}
+
+double MpiCommunication::min(double v) const {
+  double out = v;
+  MPI_Allreduce(&v, &out, 1, MPI_DOUBLE, MPI_MIN, MPI_COMM_WORLD);
+  return out;
+}
+
+double MpiCommunication::max(double v) const {
+  double out = v;
+  MPI_Allreduce(&v, &out, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+  return out;
+}
+
+std::pair<double, int> MpiCommunication::max_at(double v, int index) const {
+  // MPI_MAXLOC keeps the smallest index among equal values, as a serial scan does.
+  struct {
+    double v;
+    int i;
+  } in{v, index}, out{v, index};
+  MPI_Allreduce(&in, &out, 1, MPI_DOUBLE_INT, MPI_MAXLOC, MPI_COMM_WORLD);
+  return {out.v, out.i};
+}
+
+std::string MpiCommunication::first_message(const std::string& message) const {
+  const int mine = message.empty() ? size_ : rank_;
+  int first = size_;
+  MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+  if (first == size_) return {};
+  int length = rank_ == first ? static_cast<int>(message.size()) : 0;
+  MPI_Bcast(&length, 1, MPI_INT, first, MPI_COMM_WORLD);
+  std::string out = rank_ == first ? message : std::string(static_cast<std::size_t>(length), ' ');
+  MPI_Bcast(out.data(), length, MPI_CHAR, first, MPI_COMM_WORLD);
+  return out;
+}
+
+void MpiCommunication::collect(Model& m, int root, std::vector<Contact>* local_contacts) {
+  if (!m.part.decomposed()) return;
+  // What this process owns: per block its position, motion, gridpoints and zones; then its contacts.
+  std::vector<std::byte> mine;
+  put<std::int64_t>(mine, static_cast<std::int64_t>(m.part.owned_blocks.size()));
+  for (int b : m.part.owned_blocks) {
+    const Block& B = m.blocks[static_cast<std::size_t>(b)];
+    put<std::int32_t>(mine, b);
+    pack(fields::kBlockFields, B, true, mine);
+    for (int i = B.first_gp; i < B.first_gp + B.n_gp; ++i) pack(fields::kGridPointFields, m.gp[static_cast<std::size_t>(i)], true, mine);
+    for (int i = B.first_zone; i < B.first_zone + B.n_zone; ++i) pack(fields::kZoneFields, m.zones[static_cast<std::size_t>(i)], true, mine);
+  }
+  std::int64_t owned_contacts = 0;
+  for (const Contact& c : m.contacts.items) owned_contacts += owned_contact(m, c);
+  put<std::int64_t>(mine, owned_contacts);
+  for (const Contact& c : m.contacts.items)
+    if (owned_contact(m, c)) pack(fields::kContactFields, c, false, mine);
+  if (mine.size() > static_cast<std::size_t>(std::numeric_limits<int>::max()))
+    throw std::runtime_error("collecting the model state: one process's part exceeds 2 GB");
+  const int count = static_cast<int>(mine.size());
+  const bool receive = root < 0 || rank_ == root;
+  std::vector<int> counts(static_cast<std::size_t>(size_)), displs(static_cast<std::size_t>(size_), 0);
+  if (root < 0) MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD);
+  else MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, root, MPI_COMM_WORLD);
+  std::vector<std::byte> all;
+  if (receive) {
+    for (int r = 1; r < size_; ++r) displs[static_cast<std::size_t>(r)] = displs[static_cast<std::size_t>(r) - 1] + counts[static_cast<std::size_t>(r) - 1];
+    all.resize(static_cast<std::size_t>(displs.back()) + static_cast<std::size_t>(counts.back()));
+  }
+  if (root < 0)
+    MPI_Allgatherv(mine.data(), count, MPI_BYTE, all.data(), counts.data(), displs.data(), MPI_BYTE, MPI_COMM_WORLD);
+  else
+    MPI_Gatherv(mine.data(), count, MPI_BYTE, all.data(), counts.data(), displs.data(), MPI_BYTE, root, MPI_COMM_WORLD);
+  if (!receive) return;
+  std::vector<Contact> contacts;
+  for (int r = 0; r < size_; ++r) {
+    const std::byte* in = all.data() + displs[static_cast<std::size_t>(r)];
+    const auto blocks = take<std::int64_t>(in);
+    for (std::int64_t k = 0; k < blocks; ++k) {
+      Block& B = m.blocks[static_cast<std::size_t>(take<std::int32_t>(in))];
+      in = unpack(fields::kBlockFields, B, true, in);
+      for (int i = B.first_gp; i < B.first_gp + B.n_gp; ++i) in = unpack(fields::kGridPointFields, m.gp[static_cast<std::size_t>(i)], true, in);
+      for (int i = B.first_zone; i < B.first_zone + B.n_zone; ++i) in = unpack(fields::kZoneFields, m.zones[static_cast<std::size_t>(i)], true, in);
+    }
+    const auto nc = take<std::int64_t>(in);
+    for (std::int64_t k = 0; k < nc; ++k) {
+      Contact c;
+      in = unpack(fields::kContactFields, c, false, in);
+      contacts.push_back(std::move(c));
+    }
+  }
+  std::sort(contacts.begin(), contacts.end(), [&](const Contact& a, const Contact& b) { return serial_order(m, a, b); });
+  if (local_contacts) *local_contacts = std::move(m.contacts.items);
+  m.contacts.restore(std::move(contacts));
+}
+
+}  // namespace rockdem

@@ -1,0 +1,50 @@
+#pragma once
+// Domain decomposition with MPI (docs/parallel.md): the Communication of a run on several
+// processes. Every process holds the whole model's arrays (partition.hpp says why); it steps the
+// blocks METIS gave it and receives, every step, the positions and velocities of the blocks of
+// other processes within contact reach of its own.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "framework/model/communication.hpp"
+#include "framework/model/model.hpp"
+
+namespace rockdem {
+
+class MpiCommunication final : public Communication {
+ public:
+  MpiCommunication();  // MPI_COMM_WORLD, started by MpiEnvironment
+  int rank() const override { return rank_; }
+  int size() const override { return size_; }
+
+  // Shares the blocks among the processes with METIS on the block-contact graph (block pairs
+  // whose boxes, grown by `margin`, overlap): a block weighs its zones and gridpoints (rigid
+  // blocks their corners) plus its candidate contacts, a pair its candidate contacts. Computed on
+  // process 0 and sent to all; the same on every process count and every run.
+  DecompositionReport decompose(Model& m, double margin) override;
+
+  void borders(Model& m, double margin) override;
+  void forward(Model& m) override;
+  void sum(double* values, int n) const override;
+  double min(double v) const override;
+  double max(double v) const override;
+  std::pair<double, int> max_at(double v, int index) const override;
+  std::string first_message(const std::string& message) const override;
+  void collect(Model& m, int root, std::vector<Contact>* local_contacts) override;
+
+ private:
+  struct Neighbour {
+    int rank = 0;
+    std::vector<int> send, recv;  // block positions, ascending
+    std::vector<double> send_buf, recv_buf;
+  };
+  int rank_ = 0, size_ = 1;
+  std::vector<Neighbour> neighbours_;
+};
+
+// The communication of this process: an MpiCommunication when started by mpirun on more than one
+// process, else null (a serial run: serial_communication()).
+std::unique_ptr<Communication> make_communication();
+
+}  // namespace rockdem

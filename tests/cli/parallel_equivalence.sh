@@ -1,0 +1,100 @@
+#!/usr/bin/env bash
+# Domain-decomposed runs give the serial run's results (docs/parallel.md). Each case runs serially
+# and under mpirun on 2, 3 and 4 processes; the final state (every gridpoint, zone, block and
+# contact, with its joint-law state) and the histories must be identical to the serial run's,
+# bit for bit, except the histories that sum over the processes (unbalanced ratio, kinetic
+# energy), which may differ in the last digits (relative 1e-12) because the partial sums are
+# added in another order. Also: a restart from a checkpoint of a 2-process run on 3 processes,
+# bad input under mpirun, and the case of more processes than blocks.
+# Usage: bash parallel_equivalence.sh <rockdem-binary> <source-dir>
+set -u
+bin=$1
+src=$2
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
+fail=0
+py=/usr/bin/python3
+
+# compare A B: every dataset of history.h5 and final_state.h5.
+compare() {
+  "$py" - "$1" "$2" <<'PY'
+import sys, h5py, numpy as np
+a, b = sys.argv[1:3]
+summed = {"history/ratio", "history/kinetic", "history/unbalanced_ratio"}
+worst, n, bad = 0.0, 0, []
+for name in ("history.h5", "final_state.h5"):
+    A, B = h5py.File(f"{a}/{name}", "r"), h5py.File(f"{b}/{name}", "r")
+    keys = []
+    A.visititems(lambda k, o: keys.append(k) if isinstance(o, h5py.Dataset) else None)
+    for k in keys:
+        if k not in B:
+            bad.append(f"{name}:{k} missing"); continue
+        x, y = A[k][()], B[k][()]
+        n += 1
+        if x.shape != y.shape:
+            bad.append(f"{name}:{k} shape {x.shape} vs {y.shape}"); continue
+        if k in summed and x.dtype.kind == "f":
+            scale = np.nanmax(np.abs(x)) if x.size else 0.0
+            rel = float(np.nanmax(np.abs(x - y)) / scale) if scale > 0 else 0.0
+            worst = max(worst, rel)
+            if not rel <= 1e-12: bad.append(f"{name}:{k} differs by {rel:.3g} relative")
+        elif not np.array_equal(x, y, equal_nan=x.dtype.kind == "f"):
+            bad.append(f"{name}:{k} differs")
+if bad:
+    print("  " + "\n  ".join(bad[:10])); sys.exit(1)
+print(f"{n} datasets identical (summed histories within {worst:.1e})")
+PY
+}
+
+run_case() {  # name, case args..., out: serial then 2-4 processes
+  local name=$1; shift
+  timeout 600 "$bin" run "$@" --out "$tmp/$name-1" --quiet >"$tmp/$name-1.log" 2>&1 || {
+    echo "FAIL $name serial: exit $?"; cat "$tmp/$name-1.log"; fail=1; return; }
+  for np in 2 3 4; do
+    if ! timeout 600 mpirun -np $np "$bin" run "$@" --out "$tmp/$name-$np" --quiet >"$tmp/$name-$np.log" 2>&1; then
+      echo "FAIL $name on $np processes: exit $?"; tail -5 "$tmp/$name-$np.log"; fail=1; continue
+    fi
+    if r=$(compare "$tmp/$name-1" "$tmp/$name-$np"); then echo "ok   $name on $np processes: $r"
+    else echo "FAIL $name on $np processes:"; echo "$r"; fail=1; fi
+  done
+}
+
+run_case collapse "$src/tests/cli/parallel/collapse.toml"        # rigid blocks falling metres
+run_case rock_mass "$src/tests/cli/parallel/rock_mass.toml"      # deformable blocks, in-situ stress, excavation
+run_case direct_shear "$src/cases/direct_shear/test09_mohr_coulomb.toml" --stages 1   # the direct-shear specimen
+run_case incline "$src/cases/sliding_block/incline.toml"         # two blocks: more processes than blocks
+
+# A restart on another process count: the checkpoint of the 2-process run's first stage,
+# continued on 3 processes, ends where the uninterrupted serial run ends.
+cp -r "$tmp/rock_mass-2" "$tmp/restart"
+if timeout 600 mpirun -np 3 "$bin" run "$src/tests/cli/parallel/rock_mass.toml" --out "$tmp/restart" --quiet \
+     --restart "$tmp/restart/stage_1_in_situ.h5" >"$tmp/restart.log" 2>&1; then
+  if "$py" - "$tmp/rock_mass-1/final_state.h5" "$tmp/restart/final_state.h5" <<'PY'
+import sys, h5py, numpy as np
+A, B = (h5py.File(f, "r") for f in sys.argv[1:3])
+keys = []
+A.visititems(lambda k, o: keys.append(k) if isinstance(o, h5py.Dataset) else None)
+bad = [k for k in keys if k not in B or not np.array_equal(A[k][()], B[k][()], equal_nan=A[k].dtype.kind == "f")]
+print(("differs: " + ", ".join(bad[:8])) if bad else f"{len(keys)} datasets of the final state identical")
+sys.exit(1 if bad else 0)
+PY
+  then echo "ok   restart of a 2-process checkpoint on 3 processes"; else echo "FAIL restart on 3 processes"; fail=1; fi
+else
+  echo "FAIL restart on 3 processes: exit $?"; tail -5 "$tmp/restart.log"; fail=1
+fi
+
+# Bad input under mpirun: non-zero exit, the message once.
+sed 's/^friction = "20 deg"/friction = "95 deg"/' "$src/cases/sliding_block/incline.toml" > "$tmp/bad.toml"
+out=$(timeout 120 mpirun -np 2 "$bin" run "$tmp/bad.toml" --out "$tmp/bad" --quiet 2>&1)
+code=$?
+n=$(grep -c "out of range" <<<"$out")
+if [ $code -eq 0 ] || [ "$n" -ne 1 ]; then echo "FAIL bad input under mpirun: exit $code, $n messages: $out"; fail=1
+else echo "ok   bad input under mpirun (exit $code, one message)"; fi
+
+# An output folder that is refused on process 0 stops every process (none is left waiting).
+out=$(timeout 120 mpirun -np 2 "$bin" run "$src/cases/sliding_block/incline.toml" --out "$tmp/incline-2" --quiet 2>&1)
+code=$?
+if [ $code -ne 2 ] || ! grep -q "not empty" <<<"$out"; then echo "FAIL refused folder under mpirun: exit $code: $out"; fail=1
+else echo "ok   a refused output folder stops every process (exit 2)"; fi
+exit $fail
