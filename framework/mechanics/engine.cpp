@@ -283,7 +283,11 @@ Vec2 Engine::contact_force_on(int block) const {
 
 void Engine::step() {
   const double beta = damping_.kind == Damping::Kind::rayleigh ? damping_.beta : 0.0;
-  on_all_processes([&] {
+  // The force phase. In a decomposed run an error here (an inverted zone, say) is kept until all
+  // processes have exchanged the step's sums, which say whether any of them has one.
+  char error_kind = 0;
+  std::string error;
+  auto forces = [&] {
     update_contact_geometry(m_);
     for_owned_gridpoints(m_, [&](int i) { m_.gp[static_cast<std::size_t>(i)].f.setZero(); });
     for (int b : m_.part.ghost_blocks) {  // contacts put forces on them too; they are not used
@@ -308,16 +312,50 @@ void Engine::step() {
       });
     }
     integrate();
-  });
-  // The force sums of all processes give the unbalanced-force ratio.
-  double sums[2] = {unbalanced_, applied_sum_};
-  comm_.sum(sums, 2);
-  applied_sum_ = sums[1];
-  ratio_ = applied_sum_ > 0.0 ? sums[0] / applied_sum_ : 0.0;
-  std::tie(block_ratio_, worst_block_) = comm_.max_at(block_ratio_, worst_block_);
+  };
+  if (comm_.size() == 1) {
+    forces();
+  } else {
+    try {
+      forces();
+    } catch (const InputError& e) {
+      error_kind = 'i';
+      error = e.what();
+    } catch (const InstabilityError& e) {
+      error_kind = 'u';
+      error = e.what();
+    } catch (const std::exception& e) {
+      error_kind = 'e';
+      error = e.what();
+    }
+  }
+  // One exchange gives every process the step's global quantities: the unbalanced-force ratio
+  // (its sums added in process order), the worst block and whether any process failed.
+  const double mine[5] = {unbalanced_, applied_sum_, block_ratio_, static_cast<double>(worst_block_), error_kind ? 1.0 : 0.0};
+  comm_.gather_all(mine, 5, step_sums_);
+  double unbalanced = 0.0, applied = 0.0;
+  bool failed = false;
+  for (std::size_t r = 0; r < step_sums_.size(); r += 5) {
+    unbalanced += step_sums_[r];
+    applied += step_sums_[r + 1];
+    if (step_sums_[r + 2] > block_ratio_ || (step_sums_[r + 2] == block_ratio_ && step_sums_[r + 3] < worst_block_)) {
+      block_ratio_ = step_sums_[r + 2];
+      worst_block_ = static_cast<int>(step_sums_[r + 3]);
+    }
+    failed = failed || step_sums_[r + 4] != 0.0;
+  }
+  if (failed) {
+    on_all_processes([&] {
+      if (error_kind == 'i') throw InputError(error);
+      if (error_kind == 'u') throw InstabilityError(error);
+      if (error_kind) throw std::runtime_error(error);
+    });
+  }
+  applied_sum_ = applied;
+  ratio_ = applied_sum_ > 0.0 ? unbalanced / applied_sum_ : 0.0;
   // A NaN or inf anywhere in the forces (a time function's sqrt(-1), an overflowing stiffness)
   // shows in these sums, which are formed anyway: a free check every step.
-  nonfinite_ = !std::isfinite(sums[0]) || !std::isfinite(applied_sum_);
+  nonfinite_ = !std::isfinite(unbalanced) || !std::isfinite(applied_sum_);
   for (auto* bc : active_) bc->velocities(m_, stage_time_ + dt_);
   for (auto* bc : active_) bc->end_step(m_, dt_);
   // Positions from the final half-step velocities (prescribed ones included).

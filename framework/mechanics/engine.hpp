@@ -111,6 +111,7 @@ class Engine {
   int worst_block_ = 0;
   double applied_sum_ = 0.0;
   double unbalanced_ = 0.0;  // this process's sum of |net force| in the last integrate()
+  std::vector<double> step_sums_;  // every process's step quantities (step())
   bool nonfinite_ = false;  // the last step's force sums were NaN or inf
   std::vector<double> inertial_mass_;      // per gridpoint (after mass scaling)
   std::vector<double> dashpot_;            // per gridpoint: viscous boundaries' dashpots [N s/m per m]

@@ -45,16 +45,21 @@ class Communication {
   // Positions and velocities of the ghosts' boundary gridpoints (and of rigid ghosts' centroids).
   virtual void forward(Model&) {}
 
+  // Every process's `n` values, in process order (all[r * n + k]), on every process: one
+  // exchange that a step's several global quantities share.
+  virtual void gather_all(const double* values, int n, std::vector<double>& all) const { all.assign(values, values + n); }
   // Global sums (in place), minimum and maximum, the same on every process. Sums are formed in
   // process order, so they are the same from run to run on a given process count.
   virtual void sum(double* /*values*/, int /*n*/) const {}
   virtual double min(double v) const { return v; }
   virtual double max(double v) const { return v; }
-  // The largest value of all processes and the (smallest) index that goes with it.
-  virtual std::pair<double, int> max_at(double v, int index) const { return {v, index}; }
   // The first non-empty message of all processes (in rank order): an error found on one process
   // is raised on all of them, so that none is left waiting for the others.
   virtual std::string first_message(const std::string& message) const { return message; }
+
+  // Where the processes' time went (collective): one line per process with the seconds spent
+  // exchanging and waiting, by verb, for the run's summary; empty for a serial run.
+  virtual std::string time_report() const { return {}; }
 
   // Makes the whole model current on process `root` (on every process for root < 0): each
   // process sends the state of the blocks it owns (their gridpoints, zones and motion) and of

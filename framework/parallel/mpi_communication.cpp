@@ -7,6 +7,7 @@
 #include <map>
 #include <numeric>
 #include <set>
+#include <sstream>
 #include <tuple>
 
 #include <CGAL/Box_intersection_d/Box_with_info_d.h>
@@ -79,6 +80,19 @@ T take(const std::byte*& in) {
   return v;
 }
 
+// Adds the wall time from construction to destruction to `total`.
+class Stopwatch {
+ public:
+  explicit Stopwatch(double& total) : total_(total), t0_(MPI_Wtime()) {}
+  ~Stopwatch() { total_ += MPI_Wtime() - t0_; }
+  Stopwatch(const Stopwatch&) = delete;
+  Stopwatch& operator=(const Stopwatch&) = delete;
+
+ private:
+  double& total_;
+  double t0_;
+};
+
 bool owned_contact(const Model& m, const Contact& c) { return m.part.owns(m.gp[static_cast<std::size_t>(c.point)].block); }
 
 // The order of a serial run's contact list: block pairs by position (lower, higher), the lower
@@ -108,6 +122,25 @@ std::unique_ptr<Communication> make_communication() {
 MpiCommunication::MpiCommunication() {
   MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
   MPI_Comm_size(MPI_COMM_WORLD, &size_);
+  started_ = MPI_Wtime();
+}
+
+std::string MpiCommunication::time_report() const {
+  const double mine[5] = {MPI_Wtime() - started_, spent_.borders, spent_.forward, spent_.reduce, spent_.collect};
+  std::vector<double> all(5 * static_cast<std::size_t>(size_));
+  MPI_Gather(mine, 5, MPI_DOUBLE, all.data(), 5, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+  if (rank_ != 0) return {};
+  std::ostringstream os;
+  os.setf(std::ios::fixed);
+  os.precision(2);
+  os << "time in communication (exchanging and waiting), by process:";
+  for (int r = 0; r < size_; ++r) {
+    const double* t = &all[5 * static_cast<std::size_t>(r)];
+    const double comm = t[1] + t[2] + t[3] + t[4];
+    os << "\n  process " << r << ": " << comm << " s of " << t[0] << " s (" << 100.0 * comm / t[0] << " %): borders " << t[1]
+       << " s, forward " << t[2] << " s, reductions " << t[3] << " s, collect " << t[4] << " s";
+  }
+  return os.str();
 }
 
 DecompositionReport MpiCommunication::decompose(Model& m, double margin) {
@@ -131,10 +164,12 @@ DecompositionReport MpiCommunication::decompose(Model& m, double margin) {
     const Block& B = m.blocks[static_cast<std::size_t>(b)];
     vwgt[static_cast<std::size_t>(b)] = 1 + B.n_zone + B.n_gp;
   }
+  // A contact costs about three times a zone or a gridpoint per step (geometry, joint law,
+  // detection; measured on scripts/bench/parallel/rock_mass_10k.toml, docs/parallel.md).
   for (const Contact& c : m.contacts.items) {
     const int a = m.gp[static_cast<std::size_t>(c.point)].block, o = c.other;
     ++contacts[{std::min(a, o), std::max(a, o)}];
-    ++vwgt[static_cast<std::size_t>(a)];
+    vwgt[static_cast<std::size_t>(a)] += 3;
   }
   if (nb <= size_) {
     // No more blocks than processes: one each, and the processes left over wait.
@@ -179,6 +214,7 @@ DecompositionReport MpiCommunication::decompose(Model& m, double margin) {
 void MpiCommunication::borders(Model& m, double margin) {
   Partition& p = m.part;
   if (!p.decomposed()) return;
+  const Stopwatch watch(spent_.borders);
   // Every process's boxes of its own blocks, to every process: [block, lo x, lo y, hi x, hi y].
   std::vector<double> mine;
   mine.reserve(5 * p.owned_blocks.size());
@@ -230,6 +266,7 @@ void MpiCommunication::borders(Model& m, double margin) {
 
 void MpiCommunication::forward(Model& m) {
   if (!m.part.decomposed() || neighbours_.empty()) return;
+  const Stopwatch watch(spent_.forward);
   // Per block: its motion (centroid, velocity, angle, spin), then each boundary gridpoint's
   // position and velocity, in loop order.
   auto block_size = [&](int b) { return 6 + 4 * m.blocks[static_cast<std::size_t>(b)].boundary.size(); };
@@ -275,39 +312,36 @@ void MpiCommunication::forward(Model& m) {
   }
 }
 
+void MpiCommunication::gather_all(const double* values, int n, std::vector<double>& all) const {
+  const Stopwatch watch(spent_.reduce);
+  all.resize(static_cast<std::size_t>(n) * static_cast<std::size_t>(size_));
+  MPI_Allgather(values, n, MPI_DOUBLE, all.data(), n, MPI_DOUBLE, MPI_COMM_WORLD);
+}
+
 void MpiCommunication::sum(double* values, int n) const {
-  // Reduced on process 0 in rank order and sent back, so that the sum is the same in every run.
-  std::vector<double> all(rank_ == 0 ? static_cast<std::size_t>(n) * static_cast<std::size_t>(size_) : 0);
-  MPI_Gather(values, n, MPI_DOUBLE, all.data(), n, MPI_DOUBLE, 0, MPI_COMM_WORLD);
-  if (rank_ == 0)
-    for (int k = 0; k < n; ++k) {
-      double s = 0.0;
-      for (int r = 0; r < size_; ++r) s += all[static_cast<std::size_t>(r) * static_cast<std::size_t>(n) + static_cast<std::size_t>(k)];
-      values[k] = s;
-    }
-  MPI_Bcast(values, n, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+  // Every process adds the parts in process order, so the sum is the same on all of them and
+  // in every run on this process count.
+  std::vector<double> all;
+  gather_all(values, n, all);
+  for (int k = 0; k < n; ++k) {
+    double s = 0.0;
+    for (int r = 0; r < size_; ++r) s += all[static_cast<std::size_t>(r) * static_cast<std::size_t>(n) + static_cast<std::size_t>(k)];
+    values[k] = s;
+  }
 }
 
 double MpiCommunication::min(double v) const {
+  const Stopwatch watch(spent_.reduce);
   double out = v;
   MPI_Allreduce(&v, &out, 1, MPI_DOUBLE, MPI_MIN, MPI_COMM_WORLD);
   return out;
 }
 
 double MpiCommunication::max(double v) const {
+  const Stopwatch watch(spent_.reduce);
   double out = v;
   MPI_Allreduce(&v, &out, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
   return out;
-}
-
-std::pair<double, int> MpiCommunication::max_at(double v, int index) const {
-  // MPI_MAXLOC keeps the smallest index among equal values, as a serial scan does.
-  struct {
-    double v;
-    int i;
-  } in{v, index}, out{v, index};
-  MPI_Allreduce(&in, &out, 1, MPI_DOUBLE_INT, MPI_MAXLOC, MPI_COMM_WORLD);
-  return {out.v, out.i};
 }
 
 std::string MpiCommunication::first_message(const std::string& message) const {
@@ -324,6 +358,7 @@ std::string MpiCommunication::first_message(const std::string& message) const {
 
 void MpiCommunication::collect(Model& m, int root, std::vector<Contact>* local_contacts) {
   if (!m.part.decomposed()) return;
+  const Stopwatch watch(spent_.collect);
   // What this process owns: per block its position, motion, gridpoints and zones; then its contacts.
   std::vector<std::byte> mine;
   put<std::int64_t>(mine, static_cast<std::int64_t>(m.part.owned_blocks.size()));

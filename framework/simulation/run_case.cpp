@@ -403,6 +403,8 @@ RunResult run_case(Case& c, const fs::path& out, bool quiet, const std::string& 
   } catch (const Interrupted& e) {
     throw stopped_by_signal(r, e.signal(), si);
   }
+  const std::string spent = comm.time_report();
+  if (!quiet && !spent.empty()) std::cout << spent << "\n";
   return finish(r);
 }
 
