@@ -326,7 +326,7 @@ void Restore::check_block(std::size_t i, std::size_t boundary_count) const {
   const Block& file = blocks_[i];
   const std::string bn = "block " + str(i) + " ('" + b.name + "')";
   if (file.id != b.id)
-    mismatch(bn + " has id " + std::to_string(file.id) + " in the file, " + std::to_string(b.id) + " in the model");
+    mismatch(bn + " has id " + std::to_string(id_value(file.id)) + " in the file, " + std::to_string(id_value(b.id)) + " in the model");
   if (file.name != b.name)
     mismatch("block " + str(i) + " is named '" + file.name + "' in the file, '" + b.name + "' in the model");
   if (file.rigid != b.rigid) mismatch(bn + " is " + (b.rigid ? "rigid" : "deformable") + " in the model but not in the file");
@@ -406,7 +406,7 @@ void Restore::read_contacts() {
 void Restore::check_contact(std::size_t i, i32 nmodels) const {
   const Contact& c = contacts_[i];
   if (c.point < 0 || static_cast<std::size_t>(c.point) >= ng_ || c.other < 0 || static_cast<std::size_t>(c.other) >= nb_ ||
-      c.joint < 0 || c.joint >= nmodels || m_.gp[static_cast<std::size_t>(c.point)].block != c.key.point_block ||
+      c.joint < 0 || c.joint >= nmodels || m_.blocks[static_cast<std::size_t>(m_.gp[static_cast<std::size_t>(c.point)].block)].id != c.key.point_block ||
       m_.gp[static_cast<std::size_t>(c.point)].local != c.key.point_local ||
       m_.blocks[static_cast<std::size_t>(c.other)].id != c.key.other_block)
     mismatch("contact " + str(i) + " refers to gridpoints, blocks or joint models the model does not have");

@@ -168,7 +168,7 @@ void write_blocks_vtu(const Model& m, const std::string& path) {
   vtkIdType cell = 0;
   for (const Block& b : m.blocks) {
     auto tag = [&](vtkIdType c) {
-      block_id->SetValue(c, b.id);
+      block_id->SetValue(c, id_value(b.id));
       rigid->SetValue(c, b.rigid ? 1 : 0);
       group->SetValue(c, b.group);
     };
@@ -232,8 +232,8 @@ void write_contacts_vtu(const Model& m, const std::string& path) {
     nrm->SetTuple3(i, c.normal.x(), c.normal.y(), 0.0);
     // Open wins over slipping: an open joint carries no shear stress, whatever the slip flag says.
     state->SetValue(i, c.response.open ? 2 : (c.response.slipping ? 1 : 0));
-    pb->SetValue(i, c.key.point_block);
-    ob->SetValue(i, c.key.other_block);
+    pb->SetValue(i, id_value(c.key.point_block));
+    ob->SetValue(i, id_value(c.key.other_block));
     joint->SetValue(i, c.joint);
     const int l = m.blocks[static_cast<std::size_t>(c.other)].edge_label(c.edge);
     label->SetValue(i, l);
@@ -302,7 +302,7 @@ void write_block_outlines_vtu(const Model& m, const std::vector<int>& region, co
     const Block& b = m.blocks[static_cast<std::size_t>(i)];
     ids.assign(b.boundary.begin(), b.boundary.end());
     grid->InsertNextCell(VTK_POLYGON, static_cast<vtkIdType>(ids.size()), ids.data());
-    block_id->SetValue(i, b.id);
+    block_id->SetValue(i, id_value(b.id));
     group->SetValue(i, b.group);
     rigid->SetValue(i, b.rigid ? 1 : 0);
     reg->SetValue(i, region[static_cast<std::size_t>(i)]);

@@ -75,14 +75,14 @@ int add_rigid_block(Model& m, const Polygon& polygon, double density, const std:
   for (size_t i = 0; i < p.size(); ++i) {
     GridPoint g;
     g.x0 = g.x = p[i];
-    g.block = b.id;
+    g.block = static_cast<int>(m.blocks.size());
     g.local = static_cast<LocalIndex>(i);
     b.boundary.push_back(static_cast<int>(m.gp.size()));
     b.rest_offsets.push_back(p[i] - b.xc0);
     m.gp.push_back(g);
   }
   m.blocks.push_back(std::move(b));
-  return m.blocks.back().id;
+  return static_cast<int>(m.blocks.size()) - 1;
 }
 
 int add_deformable_block(Model& m, const TriMesh& mesh, int material, const std::string& name, int group) {
@@ -104,7 +104,7 @@ int add_deformable_block(Model& m, const TriMesh& mesh, int material, const std:
   for (size_t i = 0; i < mesh.nodes.size(); ++i) {
     GridPoint g;
     g.x0 = g.x = mesh.nodes[i];
-    g.block = b.id;
+    g.block = static_cast<int>(m.blocks.size());
     g.local = static_cast<LocalIndex>(i);
     m.gp.push_back(g);
   }
@@ -137,7 +137,7 @@ int add_deformable_block(Model& m, const TriMesh& mesh, int material, const std:
   }
   b.inertia = inertia;
   m.blocks.push_back(std::move(b));
-  return m.blocks.back().id;
+  return static_cast<int>(m.blocks.size()) - 1;
 }
 
 void zone_forces(Model& m, double dt, double beta_stiffness) {

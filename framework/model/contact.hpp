@@ -21,9 +21,9 @@
 namespace rockdem {
 
 struct ContactKey {
-  BlockId point_block = 0;
+  BlockId point_block{};
   LocalIndex point_local = 0;
-  BlockId other_block = 0;
+  BlockId other_block{};
   // Which of the point's own edges the contact acts along: 0 for a point on a flat stretch of its
   // boundary, or for a corner the edge before it (loop position k-1 -> k); 1 the edge after it.
   // A corner nested in a concave corner of the other block touches it along both edges and then
@@ -40,9 +40,9 @@ struct ContactKey {
 
 struct ContactKeyHash {
   std::size_t operator()(const ContactKey& k) const {
-    std::uint64_t h = static_cast<std::uint64_t>(static_cast<std::uint32_t>(k.point_block));
+    std::uint64_t h = static_cast<std::uint64_t>(static_cast<std::uint32_t>(id_value(k.point_block)));
     h = h * 0x9E3779B97F4A7C15ull ^ static_cast<std::uint32_t>(k.point_local);
-    h = h * 0x9E3779B97F4A7C15ull ^ static_cast<std::uint32_t>(k.other_block);
+    h = h * 0x9E3779B97F4A7C15ull ^ static_cast<std::uint32_t>(id_value(k.other_block));
     h = h * 0x9E3779B97F4A7C15ull ^ static_cast<std::uint32_t>(k.side);
     return static_cast<std::size_t>(h ^ (h >> 29));
   }

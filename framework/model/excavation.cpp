@@ -34,7 +34,7 @@ Renumbering remove_blocks(Model& m, const std::vector<int>& blocks) {
   for (std::size_t i = 0; i < m.gp.size(); ++i)
     if (r.gp[i] >= 0) {
       GridPoint g = m.gp[i];
-      g.block = static_cast<BlockId>(r.block[static_cast<std::size_t>(g.block)]);
+      g.block = r.block[static_cast<std::size_t>(g.block)];
       gp[static_cast<std::size_t>(r.gp[i])] = g;
     }
   std::vector<Zone> zones(static_cast<std::size_t>(nz));

@@ -27,8 +27,8 @@ struct GridPoint {
   Vec2 f = Vec2::Zero();   // unbalanced force of this step [N per m of out-of-plane thickness]
   double mass = 0.0;       // lumped mass (after mass scaling) [kg/m]
   double stiffness = 0.0;  // sum of the stiffnesses acting on it, for the stable time step [N/m/m]
-  BlockId block = 0;
-  LocalIndex local = 0;    // index within its block (decomposition-free id with `block`)
+  int block = 0;           // position of its block in Model::blocks
+  LocalIndex local = 0;    // index within its block (with the block's id, a decomposition-free key)
   bool fixed_x = false, fixed_y = false;
   bool prescribed = false;  // velocity set by a boundary condition, not by the equation of motion
 };
@@ -45,7 +45,7 @@ struct Zone {
 };
 
 struct Block {
-  BlockId id = 0;
+  BlockId id{};
   std::string name;
   bool rigid = true;
   int group = 0;                // joint/material group index (case-file `group`)

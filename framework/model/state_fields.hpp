@@ -72,6 +72,14 @@ template <>
 struct Codec<std::uint8_t> : ScalarCodec<std::uint8_t, std::uint8_t, Scalar::u8> {};  // Block::prescribed bit mask
 template <>
 struct Codec<bool> : ScalarCodec<bool, std::uint8_t, Scalar::u8> {};
+template <>
+struct Codec<BlockId> {  // stored as its value
+  using Element = std::int32_t;
+  static constexpr Scalar type = Scalar::i32;
+  static constexpr std::size_t width = 1;
+  static void store(const BlockId& v, Element* out) { out[0] = id_value(v); }
+  static void load(BlockId& v, const Element* in) { v = BlockId{in[0]}; }
+};
 
 // Fixed-size vectors (Vec2, Voigt3) and arrays (zone connectivity): one element per component.
 template <class V, class E, Scalar S, std::size_t N>
@@ -118,12 +126,12 @@ struct Codec<ContactKey> {  // point block, point local index, other block, side
   static constexpr Scalar type = Scalar::i32;
   static constexpr std::size_t width = 4;
   static void store(const ContactKey& k, Element* out) {
-    out[0] = k.point_block;
+    out[0] = id_value(k.point_block);
     out[1] = k.point_local;
-    out[2] = k.other_block;
+    out[2] = id_value(k.other_block);
     out[3] = k.side;
   }
-  static void load(ContactKey& k, const Element* in) { k = {in[0], in[1], in[2], in[3]}; }
+  static void load(ContactKey& k, const Element* in) { k = {BlockId{in[0]}, in[1], BlockId{in[2]}, in[3]}; }
 };
 
 // A field from a captureless accessor `[](auto& item) -> auto& { return item.member; }`; the

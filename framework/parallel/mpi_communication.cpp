@@ -126,19 +126,21 @@ MpiCommunication::MpiCommunication() {
 }
 
 std::string MpiCommunication::time_report() const {
-  const double mine[5] = {MPI_Wtime() - started_, spent_.borders, spent_.forward, spent_.reduce, spent_.collect};
-  std::vector<double> all(5 * static_cast<std::size_t>(size_));
-  MPI_Gather(mine, 5, MPI_DOUBLE, all.data(), 5, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+  const double mine[6] = {MPI_Wtime() - started_, spent_.borders, spent_.forward, spent_.reduce, spent_.collect,
+                          forwards_ > 0 ? forward_bytes_ / static_cast<double>(forwards_) : 0.0};
+  std::vector<double> all(6 * static_cast<std::size_t>(size_));
+  MPI_Gather(mine, 6, MPI_DOUBLE, all.data(), 6, MPI_DOUBLE, 0, MPI_COMM_WORLD);
   if (rank_ != 0) return {};
   std::ostringstream os;
   os.setf(std::ios::fixed);
   os.precision(2);
   os << "time in communication (exchanging and waiting), by process:";
   for (int r = 0; r < size_; ++r) {
-    const double* t = &all[5 * static_cast<std::size_t>(r)];
+    const double* t = &all[6 * static_cast<std::size_t>(r)];
     const double comm = t[1] + t[2] + t[3] + t[4];
     os << "\n  process " << r << ": " << comm << " s of " << t[0] << " s (" << 100.0 * comm / t[0] << " %): borders " << t[1]
-       << " s, forward " << t[2] << " s, reductions " << t[3] << " s, collect " << t[4] << " s";
+       << " s, forward " << t[2] << " s (" << t[5] / 1024.0 << " KiB sent a step), reductions " << t[3] << " s, collect "
+       << t[4] << " s";
   }
   return os.str();
 }
@@ -289,10 +291,12 @@ void MpiCommunication::forward(Model& m) {
         n.send_buf.insert(n.send_buf.end(), {G.x.x(), G.x.y(), G.v.x(), G.v.y()});
       }
     }
+    forward_bytes_ += 8.0 * static_cast<double>(n.send_buf.size());
     req.emplace_back();
     MPI_Isend(n.send_buf.data(), static_cast<int>(n.send_buf.size()), MPI_DOUBLE, n.rank, 7, MPI_COMM_WORLD, &req.back());
   }
   MPI_Waitall(static_cast<int>(req.size()), req.data(), MPI_STATUSES_IGNORE);
+  ++forwards_;
   for (const Neighbour& n : neighbours_) {
     const double* in = n.recv_buf.data();
     for (int b : n.recv) {

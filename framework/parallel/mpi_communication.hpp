@@ -39,6 +39,8 @@ class MpiCommunication final : public Communication {
   struct Seconds {
     double borders = 0.0, forward = 0.0, reduce = 0.0, collect = 0.0;
   };
+  double forward_bytes_ = 0.0;  // sent by forward() since the start
+  long forwards_ = 0;           // forward() calls
   mutable Seconds spent_;
   double started_ = 0.0;  // MPI_Wtime at construction
   struct Neighbour {

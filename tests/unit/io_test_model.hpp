@@ -17,7 +17,7 @@ inline Model make_io_test_model() {
   m.thickness = 1.0;
   m.gravity = Vec2(0.0, -9.81);
 
-  auto add_gp = [&](double x, double y, BlockId b, LocalIndex l) {
+  auto add_gp = [&](double x, double y, int b, LocalIndex l) {
     GridPoint g;
     g.x0 = g.x = Vec2(x, y);
     g.block = b;
@@ -25,7 +25,7 @@ inline Model make_io_test_model() {
     m.gp.push_back(g);
   };
   Block r;
-  r.id = 0;
+  r.id = BlockId{0};
   r.name = "base";
   r.rigid = true;
   r.group = 0;
@@ -44,7 +44,7 @@ inline Model make_io_test_model() {
   m.blocks.push_back(r);
 
   Block d;
-  d.id = 1;
+  d.id = BlockId{1};
   d.name = "top";
   d.rigid = false;
   d.group = 1;
@@ -80,18 +80,18 @@ inline Model make_io_test_model() {
 
   std::vector<Contact> cs(3);
   // Gridpoints 4 and 5 of the top block on the base's top edge (boundary position 2: (1,1)->(0,1)).
-  cs[0].key = {1, 0, 0};
+  cs[0].key = {BlockId{1}, 0, BlockId{0}};
   cs[0].point = 4;
   cs[0].other = 0;
   cs[0].edge = 2;
   cs[0].s = 1.0;
-  cs[1].key = {1, 1, 0};
+  cs[1].key = {BlockId{1}, 1, BlockId{0}};
   cs[1].point = 5;
   cs[1].other = 0;
   cs[1].edge = 2;
   cs[1].s = 0.0;
   // Corner 2 of the base against the top block's bottom edge (boundary position 0).
-  cs[2].key = {0, 2, 1, 1};
+  cs[2].key = {BlockId{0}, 2, BlockId{1}, 1};
   cs[2].point = 2;
   cs[2].other = 1;
   cs[2].edge = 0;
@@ -134,8 +134,8 @@ inline void fill_io_test_state(Model& m, double seed) {
     b.mass = next();
     b.inertia = next();
     b.mass_scale = next();
-    b.fixed = b.id == 0;
-    b.prescribed = b.id == 1;
+    b.fixed = b.id == BlockId{0};
+    b.prescribed = b.id == BlockId{1};
   }
   for (auto& z : m.zones) {
     z.stress = Voigt3(-1e6 * next(), -2e6 * next(), 3e5 * next());

@@ -142,7 +142,7 @@ TEST(Excavation, KirschHoleInAnElasticPlate) {
   st.until = StageSpec::Until::equilibrium;
   st.ratio = 1e-6;
   st.max_steps = 400000;
-  st.excavate = {1};
+  st.excavate = {BlockId{1}};
   st.mass_scaling_dt = 1e-3;  // statics: any step, the masses follow it
   c.stages.push_back(st);
   c.output.history_interval = 1000;
