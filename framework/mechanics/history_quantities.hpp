@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "framework/core/registry.hpp"
+#include "framework/model/communication.hpp"
 #include "framework/model/model.hpp"
 
 namespace rockdem {
@@ -47,6 +48,9 @@ struct HistoryQuantity {
   std::function<double(const Model&, const Engine&, const HistoryTarget&)> measure;
   bool needs_point = false;    // `at` (and optionally `to`) locate what is measured
   bool takes_segment = false;  // `to` may be given: averaged over the joint segment at..to
+  // With Reduction::state: the parts of the state it reads besides the blocks' motion and the
+  // gridpoints (communication.hpp's StateParts: zone stresses, contacts).
+  unsigned state_parts = 0;
 };
 
 // Quantities by name; listed (in messages) in name order.

@@ -106,9 +106,11 @@ double displacement_at(const Model& m, const Engine&, const HistoryTarget& t) { 
 double velocity_at(const Model& m, const Engine&, const HistoryTarget& t) { return motion_at(m, t, true); }
 
 HistoryQuantity by_location(std::string name, std::string unit, std::string description, std::vector<std::string> comps,
-                            std::function<double(const Model&, const Engine&, const HistoryTarget&)> f, bool segment) {
+                            std::function<double(const Model&, const Engine&, const HistoryTarget&)> f, bool segment,
+                            unsigned reads) {
   HistoryQuantity q{std::move(name), std::move(unit), std::move(description), false, false, false, std::move(comps),
                     Reduction::state, std::move(f)};
+  q.state_parts = reads;
   q.needs_point = true;
   q.takes_segment = segment;
   return q;
@@ -117,24 +119,24 @@ HistoryQuantity by_location(std::string name, std::string unit, std::string desc
 const HistoryQuantityRegistrar contact_stress_q{by_location(
     "contact_stress", "Pa", "joint stress of the contact nearest `at` (or mean over the segment at..to), normal "
     "(compression positive) or shear", {"normal", "shear"},
-    [](const Model& m, const Engine&, const HistoryTarget& t) { return contact_quantity(m, t, 0); }, true)};
+    [](const Model& m, const Engine&, const HistoryTarget& t) { return contact_quantity(m, t, 0); }, true, kContactState)};
 const HistoryQuantityRegistrar contact_displacement_q{by_location(
     "contact_displacement", "m", "joint displacement of the contact nearest `at` (or mean over the segment at..to): "
     "normal (opening positive) or shear (offset from the mated position)", {"normal", "shear"},
-    [](const Model& m, const Engine&, const HistoryTarget& t) { return contact_quantity(m, t, 1); }, true)};
+    [](const Model& m, const Engine&, const HistoryTarget& t) { return contact_quantity(m, t, 1); }, true, kContactState)};
 const HistoryQuantityRegistrar contact_state_q{by_location(
     "contact_state", "", "state of the contact nearest `at` (or mean over the segment at..to): slipping (1/0), "
     "open (1/0) or dilation [m]", {"slip", "open", "dilation"},
-    [](const Model& m, const Engine&, const HistoryTarget& t) { return contact_quantity(m, t, 2); }, true)};
+    [](const Model& m, const Engine&, const HistoryTarget& t) { return contact_quantity(m, t, 2); }, true, kContactState)};
 const HistoryQuantityRegistrar zone_stress_q{by_location(
     "zone_stress", "Pa", "stress of the zone containing `at` (tension positive): sxx, syy, sxy, or the principal "
-    "stresses s1 >= s2", {"sxx", "syy", "sxy", "s1", "s2"}, zone_stress, false)};
+    "stresses s1 >= s2", {"sxx", "syy", "sxy", "s1", "s2"}, zone_stress, false, kZoneState)};
 const HistoryQuantityRegistrar displacement_at_q{by_location(
     "displacement_at", "m", "displacement of the material point that started at `at` (interpolated in the zone containing it, or of the rigid block containing it), x or y", {"x", "y"},
-    displacement_at, false)};
+    displacement_at, false, 0)};
 const HistoryQuantityRegistrar velocity_at_q{by_location(
     "velocity_at", "m/s", "velocity of the material point that started at `at` (interpolated in the zone containing it, or of the rigid block containing it; the half-step velocity), x or y", {"x", "y"},
-    velocity_at, false)};
+    velocity_at, false, 0)};
 
 }  // namespace
 }  // namespace rockdem

@@ -20,6 +20,10 @@ namespace rockdem {
 struct Model;
 struct Contact;
 
+// The parts of the state collect() gathers: the blocks' motion and gridpoints always; zones and
+// contacts when asked (a history sample that reads only displacements needs neither).
+enum StateParts : unsigned { kZoneState = 1u, kContactState = 2u, kWholeState = 3u };
+
 // How the blocks were shared out, for the run's report.
 struct DecompositionReport {
   int processes = 1;
@@ -66,7 +70,8 @@ class Communication {
   // the contacts it owns (those whose point lies on one of its blocks). On the receiving side
   // the contact list becomes every contact of the model, sorted by key; `local_contacts` gets the
   // list it replaced (so that a process can go on stepping with it after writing output).
-  virtual void collect(Model&, int /*root*/, std::vector<Contact>* /*local_contacts*/ = nullptr) {}
+  virtual void collect(Model&, int /*root*/, std::vector<Contact>* /*local_contacts*/ = nullptr,
+                       unsigned /*parts*/ = kWholeState) {}
 };
 
 // The serial run's communication, for callers that have none of their own.

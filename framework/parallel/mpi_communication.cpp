@@ -360,7 +360,8 @@ std::string MpiCommunication::first_message(const std::string& message) const {
   return out;
 }
 
-void MpiCommunication::collect(Model& m, int root, std::vector<Contact>* local_contacts) {
+void MpiCommunication::collect(Model& m, int root, std::vector<Contact>* local_contacts, unsigned parts) {
+  const bool zones = parts & kZoneState, with_contacts = parts & kContactState;
   if (!m.part.decomposed()) return;
   const Stopwatch watch(spent_.collect);
   // What this process owns: per block its position, motion, gridpoints and zones; then its contacts.
@@ -371,13 +372,16 @@ void MpiCommunication::collect(Model& m, int root, std::vector<Contact>* local_c
     put<std::int32_t>(mine, b);
     pack(fields::kBlockFields, B, true, mine);
     for (int i = B.first_gp; i < B.first_gp + B.n_gp; ++i) pack(fields::kGridPointFields, m.gp[static_cast<std::size_t>(i)], true, mine);
-    for (int i = B.first_zone; i < B.first_zone + B.n_zone; ++i) pack(fields::kZoneFields, m.zones[static_cast<std::size_t>(i)], true, mine);
+    if (zones)
+      for (int i = B.first_zone; i < B.first_zone + B.n_zone; ++i) pack(fields::kZoneFields, m.zones[static_cast<std::size_t>(i)], true, mine);
   }
   std::int64_t owned_contacts = 0;
-  for (const Contact& c : m.contacts.items) owned_contacts += owned_contact(m, c);
+  if (with_contacts)
+    for (const Contact& c : m.contacts.items) owned_contacts += owned_contact(m, c);
   put<std::int64_t>(mine, owned_contacts);
-  for (const Contact& c : m.contacts.items)
-    if (owned_contact(m, c)) pack(fields::kContactFields, c, false, mine);
+  if (with_contacts)
+    for (const Contact& c : m.contacts.items)
+      if (owned_contact(m, c)) pack(fields::kContactFields, c, false, mine);
   if (mine.size() > static_cast<std::size_t>(std::numeric_limits<int>::max()))
     throw std::runtime_error("collecting the model state: one process's part exceeds 2 GB");
   const int count = static_cast<int>(mine.size());
@@ -403,7 +407,8 @@ void MpiCommunication::collect(Model& m, int root, std::vector<Contact>* local_c
       Block& B = m.blocks[static_cast<std::size_t>(take<std::int32_t>(in))];
       in = unpack(fields::kBlockFields, B, true, in);
       for (int i = B.first_gp; i < B.first_gp + B.n_gp; ++i) in = unpack(fields::kGridPointFields, m.gp[static_cast<std::size_t>(i)], true, in);
-      for (int i = B.first_zone; i < B.first_zone + B.n_zone; ++i) in = unpack(fields::kZoneFields, m.zones[static_cast<std::size_t>(i)], true, in);
+      if (zones)
+        for (int i = B.first_zone; i < B.first_zone + B.n_zone; ++i) in = unpack(fields::kZoneFields, m.zones[static_cast<std::size_t>(i)], true, in);
     }
     const auto nc = take<std::int64_t>(in);
     for (std::int64_t k = 0; k < nc; ++k) {
@@ -412,6 +417,7 @@ void MpiCommunication::collect(Model& m, int root, std::vector<Contact>* local_c
       contacts.push_back(std::move(c));
     }
   }
+  if (!with_contacts) return;
   std::sort(contacts.begin(), contacts.end(), [&](const Contact& a, const Contact& b) { return serial_order(m, a, b); });
   if (local_contacts) *local_contacts = std::move(m.contacts.items);
   m.contacts.restore(std::move(contacts));

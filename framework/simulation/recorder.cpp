@@ -7,7 +7,11 @@ namespace rockdem {
 Recorder::Recorder(Case& c, const Engine& e, const std::filesystem::path& history_file) : c_(c), e_(e) {
   stage_id_ = h_.define("stage", "", "index of the stage (1-based)");
   needs_state_ = c.direct_shear.enabled;
-  for (const auto& s : c.histories) needs_state_ = needs_state_ || s.quantity->reduction == Reduction::state;
+  for (const auto& s : c.histories)
+    if (s.quantity->reduction == Reduction::state) {
+      needs_state_ = true;
+      state_parts_ |= s.quantity->state_parts;
+    }
   for (const auto& s : c.histories) h_.define(s.name, s.unit, s.description);
   // Its columns follow the case's histories.
   if (c.direct_shear.enabled) direct_shear_.emplace(c, e, h_);
@@ -27,12 +31,12 @@ void Recorder::sample() {
   // the state are measured there), then goes on stepping with its own contacts.
   std::vector<Contact> local;
   const bool collected = m.part.decomposed() && needs_state_;
-  if (collected) comm.collect(m, 0, &local);
+  if (collected) comm.collect(m, 0, &local, state_parts_);
   h_.set(stage_id_, stage_);
   for (std::size_t i = 0; i < c_.histories.size(); ++i) h_.set(static_cast<int>(i) + 1, value(c_.histories[i]) * c_.histories[i].scale);
   if (direct_shear_) direct_shear_->sample(h_);
   h_.commit(m.time, m.step);
-  if (collected && comm.root()) m.contacts.restore(std::move(local));
+  if (collected && comm.root() && (state_parts_ & kContactState)) m.contacts.restore(std::move(local));
 }
 
 double Recorder::value(const HistorySpec& s) const {

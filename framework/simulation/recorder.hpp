@@ -34,6 +34,7 @@ class Recorder {
   int stage_id_ = 0;
   int stage_ = 0;
   bool needs_state_ = false;  // some quantity is read from the model's state (Reduction::state)
+  unsigned state_parts_ = 0;  // what of the state they read besides motion and gridpoints
   std::optional<DirectShearRecorder> direct_shear_;
 };
 
