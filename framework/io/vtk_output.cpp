@@ -162,6 +162,8 @@ void write_blocks_vtu(const Model& m, const std::string& path) {
   auto block_id = make_int_array("block_id", ncell);
   auto rigid = make_int_array("rigid", ncell);
   auto group = make_int_array("group", ncell);
+  // The process that computes each block in a domain-decomposed run (0 in a serial one).
+  auto process = make_int_array("process", ncell);
 
   const double nan = std::numeric_limits<double>::quiet_NaN();
   std::vector<vtkIdType> ids;
@@ -171,6 +173,7 @@ void write_blocks_vtu(const Model& m, const std::string& path) {
       block_id->SetValue(c, id_value(b.id));
       rigid->SetValue(c, b.rigid ? 1 : 0);
       group->SetValue(c, b.group);
+      process->SetValue(c, m.part.decomposed() ? m.part.owner[static_cast<std::size_t>(&b - m.blocks.data())] : 0);
     };
     if (b.rigid) {
       ids.assign(b.boundary.begin(), b.boundary.end());
@@ -195,6 +198,7 @@ void write_blocks_vtu(const Model& m, const std::string& path) {
   grid->GetCellData()->AddArray(block_id);
   grid->GetCellData()->AddArray(rigid);
   grid->GetCellData()->AddArray(group);
+  grid->GetCellData()->AddArray(process);
   write_grid(grid, path);
 }
 
@@ -217,6 +221,7 @@ void write_contacts_vtu(const Model& m, const std::string& path) {
   // -1 none) and whether that is a rock bridge or glued cut (1), a joint trace (0) or nothing (-1).
   auto label = make_int_array("edge_label", n);
   auto bridge = make_int_array("bridge", n);
+  auto process = make_int_array("process", n);  // the process owning the contact (its point's block)
   // One vertex cell per point: each cell is [1, i].
   vtkNew<vtkIdTypeArray> conn;
   conn->SetNumberOfValues(2 * n);
@@ -238,6 +243,7 @@ void write_contacts_vtu(const Model& m, const std::string& path) {
     const int l = m.blocks[static_cast<std::size_t>(c.other)].edge_label(c.edge);
     label->SetValue(i, l);
     bridge->SetValue(i, l < 0 ? -1 : (m.contacts.edge_labels[static_cast<std::size_t>(l)].bridge ? 1 : 0));
+    process->SetValue(i, m.part.decomposed() ? m.part.owner[static_cast<std::size_t>(m.gp[static_cast<std::size_t>(c.point)].block)] : 0);
     conn->SetValue(2 * i, 1);
     conn->SetValue(2 * i + 1, i);
   }
@@ -251,7 +257,8 @@ void write_contacts_vtu(const Model& m, const std::string& path) {
                           static_cast<vtkDataArray*>(state), static_cast<vtkDataArray*>(len),
                           static_cast<vtkDataArray*>(nrm), static_cast<vtkDataArray*>(pb),
                           static_cast<vtkDataArray*>(ob), static_cast<vtkDataArray*>(joint),
-                          static_cast<vtkDataArray*>(label), static_cast<vtkDataArray*>(bridge)})
+                          static_cast<vtkDataArray*>(label), static_cast<vtkDataArray*>(bridge),
+                          static_cast<vtkDataArray*>(process)})
     pd->AddArray(a);
   grid->GetFieldData()->AddArray(edge_label_names(m));
   pd->SetActiveVectors("normal");  // the default orientation for Glyph

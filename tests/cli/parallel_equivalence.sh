@@ -65,6 +65,21 @@ run_case rock_mass "$src/tests/cli/parallel/rock_mass.toml"      # deformable bl
 run_case direct_shear "$src/cases/direct_shear/test09_mohr_coulomb.toml" --stages 1   # the direct-shear specimen
 run_case incline "$src/cases/sliding_block/incline.toml"         # two blocks: more processes than blocks
 
+# The VTK fields say which process computed each block and contact.
+if "$py" -c "import vtk" 2>/dev/null; then
+  if r=$("$py" - "$tmp/collapse-3/vtk" <<'PY'
+import sys, glob, vtk
+from vtk.util.numpy_support import vtk_to_numpy
+reader = vtk.vtkXMLUnstructuredGridReader()
+reader.SetFileName(sorted(glob.glob(sys.argv[1] + "/blocks_*.vtu"))[-1])
+reader.Update()
+p = sorted(set(vtk_to_numpy(reader.GetOutput().GetCellData().GetArray("process")).tolist()))
+print(p)
+sys.exit(0 if p == [0, 1, 2] else 1)
+PY
+  ); then echo "ok   the VTK blocks carry the process that computed them: $r"; else echo "FAIL VTK process field: $r"; fail=1; fi
+fi
+
 # A restart on another process count: the checkpoint of the 2-process run's first stage,
 # continued on 3 processes, ends where the uninterrupted serial run ends.
 cp -r "$tmp/rock_mass-2" "$tmp/restart"
