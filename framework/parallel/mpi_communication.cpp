@@ -126,20 +126,21 @@ MpiCommunication::MpiCommunication() {
 }
 
 std::string MpiCommunication::time_report() const {
-  const double mine[6] = {MPI_Wtime() - started_, spent_.borders, spent_.forward, spent_.reduce, spent_.collect,
-                          forwards_ > 0 ? forward_bytes_ / static_cast<double>(forwards_) : 0.0};
-  std::vector<double> all(6 * static_cast<std::size_t>(size_));
-  MPI_Gather(mine, 6, MPI_DOUBLE, all.data(), 6, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+  const double mine[7] = {MPI_Wtime() - started_, spent_.borders, spent_.forward, spent_.reduce, spent_.collect,
+                          forwards_ > 0 ? forward_bytes_ / static_cast<double>(forwards_) : 0.0,
+                          static_cast<double>(borders_done_)};
+  std::vector<double> all(7 * static_cast<std::size_t>(size_));
+  MPI_Gather(mine, 7, MPI_DOUBLE, all.data(), 7, MPI_DOUBLE, 0, MPI_COMM_WORLD);
   if (rank_ != 0) return {};
   std::ostringstream os;
   os.setf(std::ios::fixed);
   os.precision(2);
   os << "time in communication (exchanging and waiting), by process:";
   for (int r = 0; r < size_; ++r) {
-    const double* t = &all[6 * static_cast<std::size_t>(r)];
+    const double* t = &all[7 * static_cast<std::size_t>(r)];
     const double comm = t[1] + t[2] + t[3] + t[4];
     os << "\n  process " << r << ": " << comm << " s of " << t[0] << " s (" << 100.0 * comm / t[0] << " %): borders " << t[1]
-       << " s, forward " << t[2] << " s (" << t[5] / 1024.0 << " KiB sent a step), reductions " << t[3] << " s, collect "
+       << " s (ghosts found " << static_cast<long>(t[6]) << " times of " << borders_done_ + borders_skipped_ << "), forward " << t[2] << " s (" << t[5] / 1024.0 << " KiB sent a step), reductions " << t[3] << " s, collect "
        << t[4] << " s";
   }
   return os.str();
@@ -217,6 +218,33 @@ void MpiCommunication::borders(Model& m, double margin) {
   Partition& p = m.part;
   if (!p.decomposed()) return;
   const Stopwatch watch(spent_.borders);
+  // The ghosts were found with boxes grown by `margin`, twice the detection distance the broad
+  // phase grows them by: while no point has moved more than a quarter of it since, every pair the
+  // broad phase can find still lies within those boxes, and the ghosts are still enough.
+  bool still_enough = anchor_blocks_ == p.owned_blocks && anchor_margin_ == margin;
+  // (An excavation renumbers the blocks and forgets the ghosts: then they are found again.)
+  for (const Neighbour& n : neighbours_)
+    for (int b : n.recv)
+      still_enough = still_enough && static_cast<std::size_t>(b) < p.role.size() && p.role[static_cast<std::size_t>(b)] == Partition::ghost;
+  double moved = 0.0;
+  if (still_enough) {
+    std::size_t k = 0;
+    for (int b : p.owned_blocks)
+      for (int g : m.blocks[static_cast<std::size_t>(b)].boundary)
+        moved = std::max(moved, (m.gp[static_cast<std::size_t>(g)].x - anchor_[k++]).lpNorm<Eigen::Infinity>());
+  }
+  int local_ok = still_enough && moved < 0.25 * margin ? 1 : 0, all_ok = 0;
+  MPI_Allreduce(&local_ok, &all_ok, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+  if (all_ok) {
+    ++borders_skipped_;
+    return;
+  }
+  ++borders_done_;
+  anchor_.clear();
+  for (int b : p.owned_blocks)
+    for (int g : m.blocks[static_cast<std::size_t>(b)].boundary) anchor_.push_back(m.gp[static_cast<std::size_t>(g)].x);
+  anchor_blocks_ = p.owned_blocks;
+  anchor_margin_ = margin;
   // Every process's boxes of its own blocks, to every process: [block, lo x, lo y, hi x, hi y].
   std::vector<double> mine;
   mine.reserve(5 * p.owned_blocks.size());

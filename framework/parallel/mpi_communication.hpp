@@ -50,6 +50,13 @@ class MpiCommunication final : public Communication {
   };
   int rank_ = 0, size_ = 1;
   std::vector<Neighbour> neighbours_;
+  // Where this process's blocks' boundary gridpoints were when the ghosts were last found, and
+  // which blocks it owned then: borders() finds them again only once a point has moved far enough
+  // to need it (a Verlet skin, as LAMMPS's neighbour lists have).
+  std::vector<Vec2> anchor_;
+  std::vector<int> anchor_blocks_;
+  double anchor_margin_ = 0.0;
+  long borders_skipped_ = 0, borders_done_ = 0;
 };
 
 // The communication of this process: an MpiCommunication when started by mpirun on more than one
