@@ -7,9 +7,12 @@
 #include <chrono>
 #include <fstream>
 #include <cmath>
+#include <cstdio>
 #include <iomanip>
 #include <iostream>
 #include <sstream>
+
+#include <unistd.h>
 
 #include "framework/core/error.hpp"
 #include "framework/core/interrupt.hpp"
@@ -86,11 +89,20 @@ std::size_t read_restart(Case& c, const std::string& restart) {
 
 // Progress output (none when quiet). Every line goes straight to std::cout in the order of the
 // run: a step line leaves the stream's precision set for the lines after it, as it always has.
+// On a terminal the step lines overwrite each other (one line that updates); in a pipe or a file
+// each is a line of its own, for logs and scripts.
 class Progress {
  public:
-  Progress(const Case& c, bool quiet) : c_(c), quiet_(quiet) {}
+  Progress(const Case& c, bool quiet) : c_(c), quiet_(quiet), terminal_(isatty(fileno(stdout)) != 0) {}
 
-  void restarted(const std::string& restart, std::size_t first_stage) const {
+  // Ends an updating step line, so that what follows starts on a line of its own.
+  void end_line() {
+    if (!pending_) return;
+    std::cout << "\n" << std::flush;
+    pending_ = false;
+  }
+
+  void restarted(const std::string& restart, std::size_t first_stage) {
     if (!quiet_) std::cout << "restarting from " << restart << " after stage " << first_stage << " (time " << c_.model.time << " s)\n";
   }
 
@@ -99,8 +111,9 @@ class Progress {
     if (!quiet_) std::cout << "rockdem: " << c_.title << "\n  case: " << c_.file << "\n  output: " << out.string() << "\n";
   }
 
-  void stage_started(const Engine& e, const StageRunner& stage, std::size_t index, long contacts) const {
+  void stage_started(const Engine& e, const StageRunner& stage, std::size_t index, long contacts) {
     if (quiet_) return;
+    end_line();
     const StageSpec& st = stage.spec();
     std::cout << "stage " << index + 1 << "/" << c_.stages.size() << " '" << st.name << "': time step " << e.dt() << " s, "
               << (st.until == StageSpec::Until::equilibrium ? "until equilibrium" : std::to_string(stage.planned_steps()) + " steps")
@@ -122,17 +135,19 @@ class Progress {
     const double el = std::chrono::duration<double>(now - stage_wall0_).count();
     const double rate = static_cast<double>(n) / el;
     const double left = stage.seconds_left(n, rate);
-    std::cout << "  step " << c_.model.step << "  t = " << std::setprecision(6) << c_.model.time << " s  "
-              << std::setprecision(3) << rate << " steps/s  ratio " << e.unbalanced_ratio()
-              << (std::isfinite(left) ? "  left ~" + human_seconds(left) : std::string()) << "\n"
-              << std::flush;
+    std::cout << (terminal_ ? "\r" : "") << "  step " << c_.model.step << "  t = " << std::setprecision(6) << c_.model.time
+              << " s  " << std::setprecision(3) << rate << " steps/s  ratio " << e.unbalanced_ratio()
+              << (std::isfinite(left) ? "  left ~" + human_seconds(left) : std::string())
+              << (terminal_ ? "\x1b[K" : "\n") << std::flush;  // erase the rest of the previous line
+    pending_ = terminal_;
     return true;
   }
 
   // The summary of a completed run; `csv` is the joint test record, if any.
-  void finished(const fs::path& out, const fs::path& csv) const {
+  void finished(const fs::path& out, const fs::path& csv) {
     const double wall = std::chrono::duration<double>(Clock::now() - wall0_).count();
     if (quiet_) return;
+    end_line();
     std::cout << "done: " << c_.model.step << " steps, simulated " << c_.model.time << " s in " << human_seconds(wall) << "\n"
               << "outputs in " << out.string() << ":\n"
               << "  history.h5        histories (h5py: f['history/time'], f['history/<name>'];"
@@ -149,6 +164,8 @@ class Progress {
  private:
   const Case& c_;
   bool quiet_;
+  bool terminal_;        // stdout is a terminal
+  bool pending_ = false;  // an updating step line has not been ended yet
   Clock::time_point wall0_, stage_wall0_, last_print_;
 };
 
@@ -300,6 +317,7 @@ void run_stage(Run& r, const StageJointModels& joints, std::size_t index) {
 // After an instability: writes the last good state (and the joint record so far) and returns
 // the error to throw, naming what was written.
 InstabilityError stopped_unstable(Run& r, const InstabilityError& e) {
+  r.progress.end_line();
   r.engine.restore(r.engine.last_good());
   const auto path = (r.out / "last_good_state.h5").string();
   with_whole_model(r, [&] {
@@ -320,6 +338,7 @@ InstabilityError stopped_unstable(Run& r, const InstabilityError& e) {
 // After SIGINT/SIGTERM (between two chunks of steps): writes the state reached, the histories so
 // far and the joint record so far, and returns the error to throw, saying how to go on.
 Interrupted stopped_by_signal(Run& r, int sig, std::size_t stage_index) {
+  r.progress.end_line();
   const auto path = (r.out / "interrupted_state.h5").string();
   with_whole_model(r, [&] {
     write_checkpoint(r.c.model, path, {{"stages_completed", static_cast<double>(stage_index)}, {"interrupted", 1.0}});
@@ -402,8 +421,12 @@ RunResult run_case(Case& c, const fs::path& out, bool quiet, const std::string& 
     throw stopped_unstable(r, e);
   } catch (const Interrupted& e) {
     throw stopped_by_signal(r, e.signal(), si);
+  } catch (...) {
+    progress.end_line();  // the error message starts on a line of its own
+    throw;
   }
   const std::string spent = comm.time_report();
+  progress.end_line();
   if (!quiet && !spent.empty()) std::cout << spent << "\n";
   return finish(r);
 }
