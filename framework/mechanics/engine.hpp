@@ -72,7 +72,8 @@ class Engine {
   // The energy balance since the first call (energy_balance.hpp). The accounting costs a few
   // passes over the gridpoints per step, so it runs only once something has asked for it: the
   // first call starts it (a history of it is first sampled before the first step of a run).
-  // When decomposed, every process must call it at the same point (its terms are summed).
+  // When decomposed, every process must call it first at the same step (the terms are summed
+  // over the processes every step from then on).
   const EnergyTerms& energy() const;
 
   const ModelSnapshot& last_good() const { return last_good_; }
@@ -91,6 +92,7 @@ class Engine {
   void contact_forces();
   void integrate();
   void check_state();
+  void sum_energy();  // the energy terms of all processes (decomposed runs)
   // Runs f; in a decomposed run an error raised by it on any process is raised on every process
   // (with that process's message), so that none waits for the others.
   template <class F>
@@ -126,8 +128,8 @@ class Engine {
   // run_steps call), the copy is only kept every so many steps (docs/performance.md, measured).
   static constexpr long kGoodStateInterval = 1000;
   mutable EnergyBalance energy_;  // started by the first energy() call
-  mutable EnergyTerms energy_sum_;  // its terms summed over the processes
-  mutable double energy_scale_ = 0.0;  // the largest summed term so far
+  EnergyTerms energy_sum_;  // its terms summed over the processes
+  double energy_scale_ = 0.0;  // the largest summed term so far
   long steps_since_refresh_ = 0;
 };
 

@@ -4,7 +4,9 @@
 # contact, with its joint-law state) and the histories must be identical to the serial run's,
 # bit for bit, except the histories that sum over the processes (unbalanced ratio, kinetic
 # energy), which may differ in the last digits (relative 1e-12) because the partial sums are
-# added in another order. Also: a restart from a checkpoint of a 2-process run on 3 processes,
+# added in another order. The cases: a collapsing jointed face, an excavation in deformable
+# jointed rock, the direct-shear specimen, two blocks (more processes than blocks) and an
+# earthquake through a compliant base with free-field sides (held reactions, energy balance). Also: a restart from a checkpoint of a 2-process run on 3 processes,
 # bad input under mpirun, and the case of more processes than blocks.
 # Usage: bash parallel_equivalence.sh <rockdem-binary> <source-dir>
 set -u
@@ -64,6 +66,7 @@ run_case collapse "$src/tests/cli/parallel/collapse.toml"        # rigid blocks 
 run_case rock_mass "$src/tests/cli/parallel/rock_mass.toml"      # deformable blocks, in-situ stress, excavation
 run_case direct_shear "$src/cases/direct_shear/test09_mohr_coulomb.toml" --stages 1   # the direct-shear specimen
 run_case incline "$src/cases/sliding_block/incline.toml"         # two blocks: more processes than blocks
+run_case free_field "$src/cases/verification/free_field/column.toml" --no-plots   # earthquake: compliant base, free field, energy
 
 # The VTK fields say which process computed each block and contact.
 if "$py" -c "import vtk" 2>/dev/null; then
