@@ -261,7 +261,7 @@ ContactCount count_contacts(const Model& m) {
   for (const Contact& c : m.contacts.items) {
     if (c.response.open || c.pretouch_gap > 0.0 || c.overlap <= 0.0) continue;
     ++cc.touching;
-    const int a = std::min<int>(c.key.point_block, c.key.other_block), b = std::max<int>(c.key.point_block, c.key.other_block);
+    const int a = id_value(std::min(c.key.point_block, c.key.other_block)), b = id_value(std::max(c.key.point_block, c.key.other_block));
     pairs.insert({a, b});
   }
   cc.pairs = pairs.size();
