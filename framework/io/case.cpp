@@ -34,6 +34,7 @@ Case build(const toml::table& root, const CaseReader& r) {
   b.finish_stages();
   for (const auto* t : r.tables(root, "histories")) b.add_history(r.history(*t));
   if (const auto* t = root["direct_shear"].as_table()) b.direct_shear(r.direct_shear(*t));
+  if (const auto* t = root["drift"].as_table()) b.drift(r.drift(*t));
   if (const auto* t = root["output"].as_table()) b.output(r.output(*t));
   return b.finish();
 }

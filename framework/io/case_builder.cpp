@@ -425,6 +425,39 @@ void CaseBuilder::direct_shear(const DirectShearInput& s) {
   }
 }
 
+void CaseBuilder::drift(const DriftInput& s) {
+  DriftSpec& d = c_.drift;
+  const int b = c_.block_index(s.opening, s.opening_where);
+  const Block& blk = c_.model.blocks[static_cast<std::size_t>(b)];
+  // The stage that excavates the opening: results are counted from its end at the earliest.
+  std::size_t excavated = c_.stages.size();
+  for (std::size_t k = 0; k < c_.stages.size() && excavated == c_.stages.size(); ++k)
+    for (BlockId id : c_.stages[k].excavate)
+      if (id == blk.id) excavated = k;
+  if (excavated == c_.stages.size())
+    throw InputError(s.opening_where + ": no stage excavates '" + s.opening + "' (give the opening's block in a stage's 'excavate')");
+  d.reference_stage = excavated;
+  if (!s.reference_stage.empty()) {
+    std::size_t k = 0;
+    while (k < c_.stages.size() && c_.stages[k].name != s.reference_stage) ++k;
+    if (k == c_.stages.size())
+      throw InputError(s.reference_where + ": no stage named '" + s.reference_stage + "'; stages: " + stage_list());
+    if (k < excavated)
+      throw InputError(s.reference_where + ": stage '" + s.reference_stage + "' comes before the opening is excavated (stage '" +
+                       c_.stages[excavated].name + "'); the reference must be that stage or a later one");
+    d.reference_stage = k;
+  }
+  d.enabled = true;
+  d.opening = s.opening;
+  d.outline.clear();
+  for (int g : blk.boundary) d.outline.push_back(c_.model.gp[static_cast<std::size_t>(g)].x0);
+  d.near = s.near;
+  d.initial_aperture = s.initial_aperture;
+  d.residual_aperture = s.residual_aperture;
+  d.fall_displacement = s.fall_displacement;
+  d.loosened = s.loosened;
+}
+
 void CaseBuilder::output(const OutputSpec& s) { c_.output = s; }
 
 Case CaseBuilder::finish() { return std::move(c_); }
@@ -444,6 +477,7 @@ Case build_case(const CaseSpec& spec) {
   b.finish_stages();
   for (const auto& s : spec.histories) b.add_history(s);
   if (spec.direct_shear) b.direct_shear(*spec.direct_shear);
+  if (spec.drift) b.drift(*spec.drift);
   if (spec.output) b.output(*spec.output);
   return b.finish();
 }

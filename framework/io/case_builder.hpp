@@ -41,6 +41,7 @@ class CaseBuilder {
   void finish_stages();
   void add_history(const HistoryInput& s);
   void direct_shear(const DirectShearInput& s);
+  void drift(const DriftInput& s);
   void output(const OutputSpec& s);
   Case finish();
 

@@ -76,6 +76,20 @@ struct DirectShearSpec {
   std::vector<std::pair<std::string, std::string>> metadata;  // extra '# key: value' lines
 };
 
+// [drift]: a drift-stability study's results, written at the end of the reference stage and of
+// every stage after it (framework/simulation/drift_results.hpp, docs/drift-study.md).
+struct DriftSpec {
+  bool enabled = false;
+  std::string opening;              // the opening's block name
+  std::vector<Vec2> outline;        // its outline as built (counter-clockwise) [m]
+  std::size_t reference_stage = 0;  // results count from the end of this stage (index)
+  double near = 0.0;                // [m] the zone around the drift: within this of its wall
+  double initial_aperture = 0.0;    // [m] hydraulic aperture of a joint at zero normal displacement
+  double residual_aperture = 0.0;   // [m] the smallest hydraulic aperture (a closed joint)
+  double fall_displacement = 0.0;   // [m] a block moved this far towards the drift has fallen
+  double loosened = 0.0;            // [m] slip or opening that makes a joint part of the loosened zone
+};
+
 struct OutputSpec {
   long history_interval = 100;  // steps between history samples
   long vtk_interval = 0;        // steps between VTK frames (0: automatic, about 25 per stage)
@@ -95,6 +109,7 @@ struct Case {
   std::vector<StageSpec> stages;
   std::vector<HistorySpec> histories;
   DirectShearSpec direct_shear;
+  DriftSpec drift;
   OutputSpec output;
   std::vector<std::string> block_names;
   int block_index(const std::string& name, const std::string& where) const;

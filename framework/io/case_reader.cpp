@@ -460,9 +460,9 @@ void read_test_stages(const Reader& r, const toml::table& t, const std::string& 
 std::string CaseReader::top_level(const toml::table& root) const {
   const Reader r{file_, base_dir_};
   r.check_keys(root, "case", {"title", "model", "time", "materials", "joints", "blocks", "rock_mass", "boundary",
-                               "stages", "histories", "direct_shear", "output", "in_situ", "motions"});
+                               "stages", "histories", "direct_shear", "output", "in_situ", "motions", "drift"});
   std::string title = r.str(root, "title", "case", std::string("untitled"));
-  for (const char* key : {"model", "time", "rock_mass", "direct_shear", "output", "in_situ"})
+  for (const char* key : {"model", "time", "rock_mass", "direct_shear", "output", "in_situ", "drift"})
     if (const toml::node* n = root.get(key); n && !n->is_table())
       throw InputError(r.at(*n, key) + ": expected a table, written [" + std::string(key) + "]");
   return title;
@@ -720,6 +720,32 @@ DirectShearInput CaseReader::direct_shear(const toml::table& t) const {
       d.other_loader_wheres.push_back(r.at(e, path + ".other_loaders"));
     }
   }
+  return d;
+}
+
+DriftInput CaseReader::drift(const toml::table& t) const {
+  const Reader r{file_, base_dir_};
+  const std::string path = "drift";
+  r.check_keys(t, path, {"opening", "reference_stage", "near", "initial_aperture", "residual_aperture",
+                         "fall_displacement", "loosened"});
+  DriftInput d;
+  d.where = r.at_table(t, path);
+  d.opening = r.str(t, "opening", path);
+  d.opening_where = r.at(*t.get("opening"), path + ".opening");
+  d.reference_stage = r.str(t, "reference_stage", path, std::string());
+  if (const toml::node* n = t.get("reference_stage")) d.reference_where = r.at(*n, path + ".reference_stage");
+  d.near = r.quantity(t, "near", Dimension::length, path, 5.5);
+  d.initial_aperture = r.quantity(t, "initial_aperture", Dimension::length, path, 3e-4);
+  d.residual_aperture = r.quantity(t, "residual_aperture", Dimension::length, path, 3e-5);
+  d.fall_displacement = r.quantity(t, "fall_displacement", Dimension::length, path, 0.05);
+  d.loosened = r.quantity(t, "loosened", Dimension::length, path, 5e-4);
+  for (const auto& [key, value] : {std::pair<const char*, double>{"near", d.near}, {"initial_aperture", d.initial_aperture},
+                                   {"fall_displacement", d.fall_displacement}, {"loosened", d.loosened}})
+    if (!(value > 0.0))
+      throw InputError((t.get(key) ? r.at(*t.get(key), path + "." + key) : d.where) + ": '" + key + "' must be a positive length");
+  if (!(d.residual_aperture > 0.0 && d.residual_aperture <= d.initial_aperture))
+    throw InputError((t.get("residual_aperture") ? r.at(*t.get("residual_aperture"), path + ".residual_aperture") : d.where) +
+                     ": 'residual_aperture' must be positive and at most initial_aperture");
   return d;
 }
 

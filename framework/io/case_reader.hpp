@@ -36,6 +36,7 @@ class CaseReader {
   StageInput stage(const toml::table& t) const;                  // [[stages]]
   HistoryInput history(const toml::table& t) const;              // [[histories]]
   DirectShearInput direct_shear(const toml::table& t) const;     // [direct_shear]
+  DriftInput drift(const toml::table& t) const;                  // [drift]
   OutputSpec output(const toml::table& t) const;                 // [output]
 
  private:

@@ -160,6 +160,13 @@ struct DirectShearInput {
   std::string where, loader_where, top_where, bottom_where;
 };
 
+// [drift]: the results of a drift-stability study (DriftSpec); names as written.
+struct DriftInput {
+  std::string opening, reference_stage;
+  double near = 0.0, initial_aperture = 0.0, residual_aperture = 0.0, fall_displacement = 0.0, loosened = 0.0;
+  std::string where, opening_where, reference_where;
+};
+
 // A whole case, in the order the builder takes its parts.
 struct CaseSpec {
   std::string file;  // named by messages about the case as a whole
@@ -175,6 +182,7 @@ struct CaseSpec {
   std::vector<StageInput> stages;
   std::vector<HistoryInput> histories;
   std::optional<DirectShearInput> direct_shear;
+  std::optional<DriftInput> drift;
   std::optional<OutputSpec> output;
 };
 

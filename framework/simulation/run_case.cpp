@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <iomanip>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 #include <unistd.h>
@@ -20,6 +21,7 @@
 #include "framework/io/vtk_output.hpp"
 #include "framework/mechanics/engine.hpp"
 #include "framework/mechanics/in_situ.hpp"
+#include "framework/simulation/drift_results.hpp"
 #include "framework/simulation/excavate.hpp"
 #include "framework/simulation/recorder.hpp"
 #include "framework/simulation/stage.hpp"
@@ -178,6 +180,7 @@ struct Run {
   VtkSeries& vtk;
   Progress& progress;
   Communication& comm;
+  DriftResults* drift = nullptr;  // [drift]: the study's results at every stage end
   bool root() const { return comm.root(); }
 };
 
@@ -270,8 +273,13 @@ void write_stage_motions(const Run& r, std::size_t index) {
 void write_stage_checkpoint(Run& r, std::size_t index) {
   const StageSpec& st = r.c.stages[index];
   with_whole_model(r, [&] {
+    CheckpointArrays arrays = condition_states(r.engine);
+    if (r.drift) {
+      r.drift->stage_ended(r.c.model, index);
+      arrays.merge(r.drift->saved_state());
+    }
     write_checkpoint(r.c.model, (r.out / ("stage_" + std::to_string(index + 1) + "_" + st.name + ".h5")).string(),
-                     {{"stages_completed", static_cast<double>(index + 1)}}, condition_states(r.engine));
+                     {{"stages_completed", static_cast<double>(index + 1)}}, arrays);
   });
 }
 
@@ -396,8 +404,13 @@ RunResult run_case(Case& c, const fs::path& out, bool quiet, const std::string& 
     vtk.resume(c.model.time);
     progress.restarted(restart, first_stage);
   }
+  std::optional<DriftResults> drift;
+  if (c.drift.enabled) {
+    drift.emplace(c, out);
+    if (!restart.empty()) drift->restore_state(read_checkpoint_arrays(restart), first_stage);
+  }
   progress.run_started(out);
-  Run r{c, out, engine, rec, vtk, progress, comm};
+  Run r{c, out, engine, rec, vtk, progress, comm, drift ? &*drift : nullptr};
   // A restart reads the state the field started; a new run starts from the field.
   if (restart.empty() && c.in_situ) {
     const InSituReport rep = initialise_in_situ(c.model, *c.in_situ, c.settings.detection);

@@ -1,0 +1,379 @@
+#include "framework/simulation/drift_results.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <limits>
+#include <numbers>
+#include <sstream>
+
+#include "framework/core/error.hpp"
+#include "framework/geometry/polygon.hpp"
+#include "framework/io/output_folder.hpp"
+
+namespace rockdem {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr const char* kWallNames[4] = {"crown", "invert", "left_springline", "right_springline"};
+
+double segment_distance(const Vec2& p, const Vec2& a, const Vec2& b) {
+  const Vec2 ab = b - a;
+  const double l2 = ab.squaredNorm();
+  const double t = l2 > 0.0 ? std::clamp((p - a).dot(ab) / l2, 0.0, 1.0) : 0.0;
+  return (a + t * ab - p).norm();
+}
+
+// Where the ray from `c` along `dir` leaves the polygon (its farthest crossing).
+Vec2 ray_exit(const std::vector<Vec2>& poly, const Vec2& c, const Vec2& dir) {
+  double best = 0.0;
+  for (std::size_t i = 0; i < poly.size(); ++i) {
+    const Vec2& a = poly[i];
+    const Vec2& b = poly[(i + 1) % poly.size()];
+    const Vec2 e = b - a;
+    const double den = dir.x() * e.y() - dir.y() * e.x();
+    if (std::abs(den) < 1e-300) continue;
+    const Vec2 w = a - c;
+    const double t = (w.x() * e.y() - w.y() * e.x()) / den;   // along the ray
+    const double s = (w.x() * dir.y() - w.y() * dir.x()) / den;  // along the edge
+    if (s >= -1e-12 && s <= 1 + 1e-12 && t > best) best = t;
+  }
+  return c + best * dir;
+}
+
+Polygon block_polygon(const Model& m, const Block& b) {
+  Polygon p;
+  p.reserve(b.boundary.size());
+  for (int g : b.boundary) p.push_back(m.gp[static_cast<std::size_t>(g)].x);
+  return p;
+}
+
+// Hydraulic aperture of a joint from its normal displacement (opening positive): the aperture at
+// zero normal displacement plus the opening, never below the residual aperture.
+double aperture(const DriftSpec& d, double u_n) { return std::max(d.residual_aperture, d.initial_aperture + u_n); }
+
+// A contact's share of its joint's length for the flow: a touching contact's length is its own
+// part of the interface (the parts of the contacts of both blocks tile it); an open contact's is
+// its own stretch, which the facing contacts of the other block cover again, hence half of it.
+double flow_length(const Contact& c) { return c.response.open || c.pretouch_gap > 0.0 ? 0.5 * c.length : c.length; }
+
+// The joint set a contact acts on: the label of the other block's edge, if it is a joint's trace
+// (not a rock bridge or a glued cut); null otherwise.
+const EdgeLabel* joint_of(const Model& m, const Contact& c) {
+  const int label = m.blocks[static_cast<std::size_t>(c.other)].edge_label(c.edge);
+  if (label < 0) return nullptr;
+  const EdgeLabel& l = m.contacts.edge_labels[static_cast<std::size_t>(label)];
+  return l.joint.empty() || l.bridge ? nullptr : &l;
+}
+
+std::string format(double v) {
+  if (!std::isfinite(v)) return "nan";
+  std::ostringstream os;
+  os << std::setprecision(9) << v;
+  return os.str();
+}
+
+}  // namespace
+
+DriftResults::DriftResults(const Case& c, fs::path out) : c_(c), dir_(std::move(out) / "drift") {
+  const DriftSpec& d = c.drift;
+  Polygon outline(d.outline.begin(), d.outline.end());
+  centre_ = polygon_centroid(outline);
+  radius_ = std::sqrt(std::abs(signed_area(outline)) / std::numbers::pi);
+  const Vec2 dirs[4] = {{0, 1}, {0, -1}, {-1, 0}, {1, 0}};
+  for (int k = 0; k < 4; ++k) wall_points_[static_cast<std::size_t>(k)] = ray_exit(d.outline, centre_, dirs[k]);
+  for (const EdgeLabel& l : c.model.contacts.edge_labels)
+    if (!l.joint.empty() && !l.bridge && std::find(sets_.begin(), sets_.end(), l.joint) == sets_.end()) sets_.push_back(l.joint);
+}
+
+std::pair<double, double> DriftResults::since_reference(const Contact& c) const {
+  const auto r = ref_.contacts.find(c.key);
+  if (r == ref_.contacts.end()) return {c.response.u_s, c.response.u_n};
+  return {c.response.u_s - r->second.first, c.response.u_n - r->second.second};
+}
+
+double DriftResults::distance_to_wall(const Vec2& p) const {
+  const auto& o = c_.drift.outline;
+  double d = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < o.size(); ++i) d = std::min(d, segment_distance(p, o[i], o[(i + 1) % o.size()]));
+  return point_in_polygon(p, o) ? -d : d;
+}
+
+void DriftResults::take_reference(const Model& m) {
+  ref_ = Reference{};
+  for (const Contact& c : m.contacts.items) ref_.contacts[c.key] = {c.response.u_s, c.response.u_n};
+  for (const Block& b : m.blocks) ref_.centroids[b.id] = polygon_centroid(block_polygon(m, b));
+  // The wall points: the boundary gridpoint of a remaining block nearest to each, within a tenth
+  // of the radius (none if the wall there has fallen in or the outline was not excavated).
+  for (std::size_t k = 0; k < 4; ++k) {
+    double best = 0.1 * radius_;
+    for (const Block& b : m.blocks)
+      for (int g : b.boundary) {
+        const GridPoint& p = m.gp[static_cast<std::size_t>(g)];
+        const double dist = (p.x - wall_points_[k]).norm();
+        if (dist < best) {
+          best = dist;
+          ref_.wall_block[k] = b.id;
+          ref_.wall_local[k] = p.local;
+          ref_.wall_x[k] = p.x;
+          ref_.wall_found[k] = true;
+        }
+      }
+  }
+  ref_.taken = true;
+}
+
+void DriftResults::stage_ended(const Model& m, std::size_t index) {
+  const DriftSpec& d = c_.drift;
+  if (index < d.reference_stage) return;
+  if (index == d.reference_stage) {
+    take_reference(m);
+    fallen_.clear();
+    rows_.clear();
+  }
+  if (!ref_.taken) throw InputError(c_.file + ": [drift] has no reference state (restart from a checkpoint written before it?)");
+  const StageSpec& st = c_.stages[index];
+  Row row;
+  row.stage = index + 1;
+  row.name = st.name;
+  row.kind = index == d.reference_stage ? "reference" : !st.motions.empty() ? "event" : "rest";
+  row.time = m.time;
+  auto& v = row.values;
+
+  // Joints: slip and opening since the reference, per set, near the drift and everywhere.
+  const double near_area = std::numbers::pi * ((radius_ + d.near) * (radius_ + d.near) - radius_ * radius_);
+  double kxx = 0, kyy = 0, kxy = 0, loosened_extent = 0.0, max_slip_near = 0.0;
+  long loosened_count = 0;
+  std::map<std::string, double> set_max_slip, set_max_slip_near, set_sum_slip_near, set_len_near, set_max_open_near;
+  for (const std::string& s : sets_) set_max_slip[s] = set_max_slip_near[s] = set_sum_slip_near[s] = set_len_near[s] = set_max_open_near[s] = 0.0;
+  for (const Contact& c : m.contacts.items) {
+    const EdgeLabel* joint = joint_of(m, c);
+    if (!joint) continue;
+    const EdgeLabel& l = *joint;
+    const auto [slip, opening] = since_reference(c);
+    const Vec2& x = m.gp[static_cast<std::size_t>(c.point)].x;
+    const double dw = distance_to_wall(x);
+    set_max_slip[l.joint] = std::max(set_max_slip[l.joint], std::abs(slip));
+    if (std::abs(slip) > d.loosened || opening > d.loosened) {
+      loosened_extent = std::max(loosened_extent, dw);
+      ++loosened_count;
+    }
+    if (dw > d.near) continue;
+    set_max_slip_near[l.joint] = std::max(set_max_slip_near[l.joint], std::abs(slip));
+    set_sum_slip_near[l.joint] += std::abs(slip) * c.length;
+    set_len_near[l.joint] += c.length;
+    set_max_open_near[l.joint] = std::max(set_max_open_near[l.joint], opening);
+    max_slip_near = std::max(max_slip_near, std::abs(slip));
+    // Parallel plates (Snow 1969): each joint adds (a^3/12) per unit length times its length over
+    // the area, along its direction t: k += (a^3/12) L/A (I - n n^T).
+    const double a = aperture(d, c.response.u_n);
+    const double w = a * a * a / 12.0 * flow_length(c) / near_area;
+    const Vec2& n = c.normal;
+    kxx += w * (1.0 - n.x() * n.x());
+    kyy += w * (1.0 - n.y() * n.y());
+    kxy += w * (-n.x() * n.y());
+  }
+  if (index == d.reference_stage) ref_.k = {kxx, kyy, kxy};
+  v["max_slip_near_m"] = max_slip_near;
+  for (const std::string& s : sets_) {
+    v["max_slip_" + s + "_m"] = set_max_slip[s];
+    v["max_slip_near_" + s + "_m"] = set_max_slip_near[s];
+    v["mean_slip_near_" + s + "_m"] = set_len_near[s] > 0.0 ? set_sum_slip_near[s] / set_len_near[s] : 0.0;
+    v["max_opening_near_" + s + "_m"] = set_max_open_near[s];
+  }
+  v["loosened_contacts"] = static_cast<double>(loosened_count);
+  v["loosened_extent_m"] = loosened_extent;
+  v["k_xx_m2"] = kxx;
+  v["k_yy_m2"] = kyy;
+  v["k_xy_m2"] = kxy;
+  v["k_xx_ratio"] = ref_.k[0] > 0.0 ? kxx / ref_.k[0] : kNaN;
+  v["k_yy_ratio"] = ref_.k[1] > 0.0 ? kyy / ref_.k[1] : kNaN;
+
+  // Blocks that moved towards the drift by more than fall_displacement since the reference.
+  std::map<BlockId, int> position;
+  for (std::size_t i = 0; i < m.blocks.size(); ++i) position[m.blocks[i].id] = static_cast<int>(i);
+  for (const Block& b : m.blocks) {
+    if (std::any_of(fallen_.begin(), fallen_.end(), [&](const Fallen& f) { return f.id == b.id; })) continue;
+    const auto r = ref_.centroids.find(b.id);
+    if (r == ref_.centroids.end()) continue;
+    const Polygon p = block_polygon(m, b);
+    const Vec2 xc = polygon_centroid(p);
+    const double moved = (xc - r->second).norm();
+    if (moved > d.fall_displacement && (xc - centre_).norm() < (r->second - centre_).norm())
+      fallen_.push_back({b.id, b.name, std::abs(signed_area(p)), moved, index + 1});
+  }
+  double fallen_area = 0.0;
+  for (Fallen& f : fallen_) {
+    fallen_area += f.area;
+    if (const auto it = position.find(f.id); it != position.end()) {
+      const Block& b = m.blocks[static_cast<std::size_t>(it->second)];
+      f.displacement = (polygon_centroid(block_polygon(m, b)) - ref_.centroids[f.id]).norm();
+    }
+  }
+  v["fallen_blocks"] = static_cast<double>(fallen_.size());
+  v["fallen_area_m2"] = fallen_area;
+
+  // Convergence: each wall point's displacement towards the drift's centre line.
+  std::array<double, 4> u{kNaN, kNaN, kNaN, kNaN};
+  for (std::size_t k = 0; k < 4; ++k) {
+    if (!ref_.wall_found[k]) continue;
+    const auto it = position.find(ref_.wall_block[k]);
+    if (it == position.end()) continue;
+    const Block& b = m.blocks[static_cast<std::size_t>(it->second)];
+    const Vec2 x = m.gp[static_cast<std::size_t>(b.first_gp + static_cast<int>(ref_.wall_local[k]))].x;
+    const Vec2 du = x - ref_.wall_x[k];
+    u[k] = 0.0 + (k == 0 ? -du.y() : k == 1 ? du.y() : k == 2 ? du.x() : -du.x());  // 0.0 +: no "-0"
+  }
+  for (std::size_t k = 0; k < 4; ++k) v[std::string(kWallNames[k]) + "_inward_m"] = u[k];
+  v["vertical_convergence_m"] = u[0] + u[1];
+  v["horizontal_convergence_m"] = u[2] + u[3];
+  rows_.push_back(std::move(row));
+  write_files(m, index);
+}
+
+void DriftResults::write_files(const Model& m, std::size_t index) const {
+  const DriftSpec& d = c_.drift;
+  fs::create_directories(dir_);
+  std::ostringstream head;
+  head << "# rockdem drift-study results (docs/drift-study.md): case " << c_.file << ", opening '" << d.opening
+       << "' (centre " << format(centre_.x()) << " " << format(centre_.y()) << " m, equivalent radius " << format(radius_)
+       << " m)\n# measured from the end of stage '" << c_.stages[d.reference_stage].name << "'; near the drift: within "
+       << format(d.near) << " m of its wall; apertures " << format(d.initial_aperture) << " m at zero normal displacement, "
+       << format(d.residual_aperture) << " m residual; fallen: moved " << format(d.fall_displacement)
+       << " m towards the drift; loosened: slip or opening over " << format(d.loosened) << " m\n";
+  {
+    std::ostringstream os;
+    os << head.str() << "stage,name,kind,time_s";
+    const auto& cols = rows_.front().values;
+    for (const auto& [k, val] : cols) os << "," << k;
+    os << "\n";
+    for (const Row& r : rows_) {
+      os << r.stage << "," << r.name << "," << r.kind << "," << format(r.time);
+      for (const auto& [k, val] : cols) {
+        const auto it = r.values.find(k);
+        os << "," << format(it != r.values.end() ? it->second : kNaN);
+      }
+      os << "\n";
+    }
+    write_file_atomically(dir_ / "events.csv", os.str());
+  }
+  {
+    std::ostringstream os;
+    os << head.str() << "block_id,name,area_m2,displacement_m,stage,stage_name\n";
+    for (const Fallen& f : fallen_)
+      os << id_value(f.id) << "," << f.name << "," << format(f.area) << "," << format(f.displacement) << "," << f.stage << ","
+         << c_.stages[f.stage - 1].name << "\n";
+    write_file_atomically(dir_ / "fallen_blocks.csv", os.str());
+  }
+  std::ostringstream os;
+  os << head.str() << "x_m,y_m,set,distance_to_wall_m,slip_m,opening_m,aperture_m,length_m,normal_x,normal_y,normal_stress_Pa,"
+                      "shear_stress_Pa,state\n";
+  for (const Contact& c : m.contacts.items) {
+    const EdgeLabel* joint = joint_of(m, c);
+    if (!joint) continue;
+    const auto [slip, opening] = since_reference(c);
+    const Vec2& x = m.gp[static_cast<std::size_t>(c.point)].x;
+    os << format(x.x()) << "," << format(x.y()) << "," << joint->joint << "," << format(distance_to_wall(x)) << ","
+       << format(slip) << "," << format(opening) << "," << format(aperture(d, c.response.u_n))
+       << "," << format(c.length) << "," << format(c.normal.x()) << "," << format(c.normal.y()) << ","
+       << format(c.response.sigma_n) << "," << format(c.response.tau) << ","
+       << (c.response.open ? "open" : c.response.slipping ? "slipping" : "elastic") << "\n";
+  }
+  write_file_atomically(dir_ / ("contacts_" + std::to_string(index + 1) + "_" + c_.stages[index].name + ".csv"), os.str());
+}
+
+CheckpointArrays DriftResults::saved_state() const {
+  CheckpointArrays a;
+  if (!ref_.taken) return a;
+  auto& keys = a["drift_reference_contact_keys"];
+  auto& disp = a["drift_reference_contact_us_un"];
+  for (const auto& [k, us_un] : ref_.contacts) {
+    keys.insert(keys.end(), {static_cast<double>(id_value(k.point_block)), static_cast<double>(k.point_local),
+                             static_cast<double>(id_value(k.other_block)), static_cast<double>(k.side)});
+    disp.insert(disp.end(), {us_un.first, us_un.second});
+  }
+  auto& cen = a["drift_reference_centroids"];
+  for (const auto& [id, x] : ref_.centroids) cen.insert(cen.end(), {static_cast<double>(id_value(id)), x.x(), x.y()});
+  auto& wall = a["drift_reference_wall"];
+  for (std::size_t k = 0; k < 4; ++k)
+    wall.insert(wall.end(), {ref_.wall_found[k] ? 1.0 : 0.0, static_cast<double>(id_value(ref_.wall_block[k])),
+                             static_cast<double>(ref_.wall_local[k]), ref_.wall_x[k].x(), ref_.wall_x[k].y()});
+  a["drift_reference_k"] = {ref_.k[0], ref_.k[1], ref_.k[2]};
+  auto& fallen = a["drift_fallen"];
+  for (const Fallen& f : fallen_) fallen.insert(fallen.end(), {static_cast<double>(id_value(f.id)), f.area, f.displacement, static_cast<double>(f.stage)});
+  // The rows so far, column by column in the order of the first row's columns.
+  auto& rows = a["drift_rows"];
+  for (const Row& r : rows_) {
+    rows.insert(rows.end(), {static_cast<double>(r.stage), r.time});
+    for (const auto& [k, val] : rows_.front().values) rows.push_back(r.values.count(k) ? r.values.at(k) : kNaN);
+  }
+  return a;
+}
+
+void DriftResults::restore_state(const CheckpointArrays& a, std::size_t stages_completed) {
+  ref_ = Reference{};
+  fallen_.clear();
+  rows_.clear();
+  const auto get = [&](const char* name) -> const std::vector<double>* {
+    const auto it = a.find(name);
+    return it == a.end() ? nullptr : &it->second;
+  };
+  const auto* keys = get("drift_reference_contact_keys");
+  if (!keys) return;  // written before the reference stage ended
+  const auto* disp = get("drift_reference_contact_us_un");
+  for (std::size_t i = 0; i + 3 < keys->size(); i += 4) {
+    ContactKey k{BlockId{static_cast<std::int32_t>((*keys)[i])}, static_cast<LocalIndex>((*keys)[i + 1]),
+                 BlockId{static_cast<std::int32_t>((*keys)[i + 2])}, static_cast<std::int32_t>((*keys)[i + 3])};
+    ref_.contacts[k] = {(*disp)[i / 2], (*disp)[i / 2 + 1]};
+  }
+  if (const auto* cen = get("drift_reference_centroids"))
+    for (std::size_t i = 0; i + 2 < cen->size(); i += 3) ref_.centroids[BlockId{static_cast<std::int32_t>((*cen)[i])}] = {(*cen)[i + 1], (*cen)[i + 2]};
+  if (const auto* wall = get("drift_reference_wall"); wall && wall->size() == 20)
+    for (std::size_t k = 0; k < 4; ++k) {
+      const double* w = wall->data() + 5 * k;
+      ref_.wall_found[k] = w[0] != 0.0;
+      ref_.wall_block[k] = BlockId{static_cast<std::int32_t>(w[1])};
+      ref_.wall_local[k] = static_cast<LocalIndex>(w[2]);
+      ref_.wall_x[k] = {w[3], w[4]};
+    }
+  if (const auto* k = get("drift_reference_k"); k && k->size() == 3) ref_.k = {(*k)[0], (*k)[1], (*k)[2]};
+  ref_.taken = true;
+  if (const auto* f = get("drift_fallen"))
+    for (std::size_t i = 0; i + 3 < f->size(); i += 4) {
+      Fallen x;
+      x.id = BlockId{static_cast<std::int32_t>((*f)[i])};
+      x.area = (*f)[i + 1];
+      x.displacement = (*f)[i + 2];
+      x.stage = static_cast<std::size_t>((*f)[i + 3]);
+      for (const Block& b : c_.model.blocks)
+        if (b.id == x.id) x.name = b.name;
+      fallen_.push_back(std::move(x));
+    }
+  // The rows: their columns are the ones this case makes (the same sets), in the map's order.
+  if (const auto* rows = get("drift_rows")) {
+    std::vector<std::string> cols{"fallen_area_m2", "fallen_blocks", "horizontal_convergence_m", "k_xx_m2", "k_xx_ratio", "k_xy_m2",
+                                  "k_yy_m2", "k_yy_ratio", "loosened_contacts", "loosened_extent_m", "max_slip_near_m",
+                                  "vertical_convergence_m"};
+    for (const char* w : kWallNames) cols.push_back(std::string(w) + "_inward_m");
+    for (const std::string& s : sets_)
+      for (const char* f : {"max_slip_", "max_slip_near_", "mean_slip_near_", "max_opening_near_"}) cols.push_back(f + s + "_m");
+    std::sort(cols.begin(), cols.end());
+    const std::size_t width = 2 + cols.size();
+    for (std::size_t i = 0; i + width <= rows->size(); i += width) {
+      Row r;
+      r.stage = static_cast<std::size_t>((*rows)[i]);
+      if (r.stage > stages_completed || r.stage == 0) break;
+      r.time = (*rows)[i + 1];
+      r.name = c_.stages[r.stage - 1].name;
+      r.kind = r.stage - 1 == c_.drift.reference_stage ? "reference" : !c_.stages[r.stage - 1].motions.empty() ? "event" : "rest";
+      for (std::size_t j = 0; j < cols.size(); ++j) r.values[cols[j]] = (*rows)[i + 2 + j];
+      rows_.push_back(std::move(r));
+    }
+  }
+}
+
+}  // namespace rockdem

@@ -1,0 +1,121 @@
+#!/usr/bin/env bash
+# The drift-study results ([drift], docs/drift-study.md) on tests/cli/drift/results.toml: an
+# excavation in a small jointed rock mass and two stages after it. Checks:
+#  - one row per stage from the reference on, the reference row all zeros (ratios 1);
+#  - the crown and springline displacements in events.csv are the histories' displacement_at at
+#    the same wall points (to 0.05 mm: the nearest gridpoint against a point on the wall);
+#  - the per-set slip and opening maxima and the permeability tensor follow from the contacts
+#    written beside them (the tensor recomputed here from the apertures: Snow's parallel plates);
+#  - fallen blocks: none at the case's 2 cm; with a threshold of 0.1 mm the blocks that moved
+#    that far towards the opening, above it, are listed with the stage they first passed it;
+#  - a restart from the middle stage's checkpoint gives the same files; 2 processes too;
+#  - bad [drift] input is refused naming the key.
+# Usage: bash drift_results.sh <rockdem-binary> <source-dir>
+set -u
+bin=$1
+src=$2
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
+fail=0
+case_file=$src/tests/cli/drift/results.toml
+ok() { echo "ok   $1"; }
+bad() { echo "FAIL $1"; fail=1; }
+
+"$bin" run "$case_file" --out "$tmp/a" --quiet || { echo "FAIL run exited $?"; exit 1; }
+/usr/bin/python3 - "$tmp/a" <<'PY' || fail=1
+import sys, csv, h5py, numpy as np
+out = sys.argv[1]
+fail = False
+def check(good, what):
+    global fail
+    print(("ok   " if good else "FAIL ") + what)
+    fail = fail or not good
+def rows(path):
+    return list(csv.DictReader(l for l in open(path) if not l.startswith("#")))
+ev = rows(out + "/drift/events.csv")
+check([r["name"] for r in ev] == ["excavate", "loosen", "settle"] and [r["kind"] for r in ev] == ["reference", "rest", "rest"],
+      "events.csv: a row for the reference stage and each stage after it")
+ref = ev[0]
+check(all(float(v) == 0.0 for k, v in ref.items() if k.endswith("_m") or k in ("fallen_blocks", "loosened_contacts")),
+      "the reference row is all zeros")
+check(float(ref["k_xx_ratio"]) == 1.0 and float(ref["k_yy_ratio"]) == 1.0, "its permeability ratios are 1")
+# Wall displacements against the histories at the same points (crown (0, 0.8), springline (0.8, 0)).
+with h5py.File(out + "/history.h5", "r", locking=False) as f:
+    h = f["history"]
+    stage = h["stage"][:]
+    series = {k: h[k][:] for k in ("crown_y", "springline_x")}
+moved = {k: v[-1] - v[stage == 2][-1] for k, v in series.items()}
+last = ev[-1]
+for col, hist, sign in (("crown_inward_m", "crown_y", -1), ("right_springline_inward_m", "springline_x", -1)):
+    check(abs(float(last[col]) - sign * moved[hist]) < 5e-5,
+          f"{col}: {float(last[col]) * 1e3:.4f} mm, the history {hist} {sign * moved[hist] * 1e3:.4f} mm")
+check(0 < float(last["crown_inward_m"]) < 0.01, "the crown moved down, by less than a centimetre")
+# The maxima per set and the permeability from the contacts of the last stage.
+ct = rows(out + "/drift/contacts_4_settle.csv")
+near = 1.6
+area = np.pi * ((0.789732252 + near) ** 2 - 0.789732252 ** 2)
+for s in ("steep", "flat"):
+    sl = [abs(float(c["slip_m"])) for c in ct if c["set"] == s and float(c["distance_to_wall_m"]) <= near]
+    check(len(sl) > 10 and abs(max(sl) - float(last[f"max_slip_near_{s}_m"])) <= 1e-12 * max(1, max(sl)),
+          f"set {s}: largest slip near the opening {max(sl) * 1e3:.4f} mm, as in events.csv")
+k = np.zeros(3)
+for c in ct:
+    if float(c["distance_to_wall_m"]) > near:
+        continue
+    a, L = float(c["aperture_m"]), float(c["length_m"])
+    if c["state"] == "open":
+        L *= 0.5
+    n = np.array([float(c["normal_x"]), float(c["normal_y"])])
+    w = a ** 3 / 12 * L / area
+    k += w * np.array([1 - n[0] ** 2, 1 - n[1] ** 2, -n[0] * n[1]])
+got = np.array([float(last[c]) for c in ("k_xx_m2", "k_yy_m2", "k_xy_m2")])
+check(np.allclose(k, got, rtol=1e-6, atol=0), f"permeability {got} from the apertures ({k})")
+check(all(float(c["aperture_m"]) >= 3e-5 for c in ct), "no aperture below the residual")
+sys.exit(1 if fail else 0)
+PY
+n=$(grep -vc '^#' "$tmp/a/drift/fallen_blocks.csv")
+[ "$n" = 1 ] && ok "no block fell at 2 cm" || bad "blocks listed as fallen at 2 cm: $((n - 1))"
+
+# A low threshold lists the blocks that moved towards the opening.
+sed 's/^fall_displacement = .*/fall_displacement = "0.1 mm"/' "$case_file" > "$tmp/low.toml"
+"$bin" run "$tmp/low.toml" --out "$tmp/low" --quiet || bad "low-threshold run exited $?"
+/usr/bin/python3 - "$tmp/low" <<'PY' || fail=1
+import sys, csv
+out = sys.argv[1]
+fb = list(csv.DictReader(l for l in open(out + "/drift/fallen_blocks.csv") if not l.startswith("#")))
+ev = list(csv.DictReader(l for l in open(out + "/drift/events.csv") if not l.startswith("#")))
+good = len(fb) > 0 and all(float(b["displacement_m"]) > 1e-4 and b["stage_name"] in ("loosen", "settle") for b in fb)
+good = good and int(float(ev[-1]["fallen_blocks"])) == len(fb) and ev[0]["fallen_blocks"] == "0"
+print(("ok   " if good else "FAIL ") + f"0.1 mm: {len(fb)} blocks listed (first: {', '.join(b['name'] for b in fb[:5])}), each moved more than it after the reference")
+sys.exit(0 if good else 1)
+PY
+
+# Restart from the middle stage: the same results.
+cp -r "$tmp/a" "$tmp/r"
+"$bin" run "$case_file" --out "$tmp/r" --restart "$tmp/r/stage_3_loosen.h5" --quiet > /dev/null || bad "restart exited $?"
+for f in events.csv fallen_blocks.csv contacts_4_settle.csv; do
+  cmp -s "$tmp/a/drift/$f" "$tmp/r/drift/$f" && ok "restart from stage 3: $f identical" || bad "restart from stage 3: $f differs"
+done
+
+# Two processes: the same results.
+mpirun -np 2 "$bin" run "$case_file" --out "$tmp/p2" --quiet > "$tmp/p2.log" 2>&1 || { cat "$tmp/p2.log"; bad "2-process run exited"; }
+for f in events.csv fallen_blocks.csv contacts_3_loosen.csv contacts_4_settle.csv; do
+  cmp -s "$tmp/a/drift/$f" "$tmp/p2/drift/$f" && ok "2 processes: $f identical" || bad "2 processes: $f differs"
+done
+
+# Bad input: each refused with exit 2, naming the key.
+expect_bad() {  # name, sed expression, text expected in the message
+  sed "$2" "$case_file" > "$tmp/bad.toml"
+  msg=$("$bin" run "$tmp/bad.toml" --out "$tmp/bad_$1" --quiet 2>&1)
+  rc=$?
+  if [ $rc = 2 ] && grep -q -- "$3" <<< "$msg"; then ok "bad input ($1): exit 2, '$3'"; else bad "bad input ($1): exit $rc: $msg"; fi
+}
+expect_bad opening 's/^opening = "opening"/opening = "tunnel"/' "drift.opening"
+expect_bad not_excavated 's/^excavate = \["opening"\]/excavate = ["rm.3"]/' "no stage excavates 'opening'"
+expect_bad stage 's/^near = "1.6 m"/near = "1.6 m"\nreference_stage = "settel"/' "no stage named 'settel'"
+expect_bad early 's/^near = "1.6 m"/near = "1.6 m"\nreference_stage = "in_situ"/' "before the opening is excavated"
+expect_bad near 's/^near = "1.6 m"/near = "-1 m"/' "'near' must be a positive length"
+expect_bad residual 's/^near = "1.6 m"/near = "1.6 m"\nresidual_aperture = "1 mm"/' "at most initial_aperture"
+expect_bad key 's/^near = "1.6 m"/nearby = "1.6 m"/' "did you mean 'near'"
+exit $fail
