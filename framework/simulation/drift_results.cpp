@@ -106,7 +106,16 @@ double DriftResults::distance_to_wall(const Vec2& p) const {
 void DriftResults::take_reference(const Model& m) {
   ref_ = Reference{};
   for (const Contact& c : m.contacts.items) ref_.contacts[c.key] = {c.response.u_s, c.response.u_n};
-  for (const Block& b : m.blocks) ref_.centroids[b.id] = polygon_centroid(block_polygon(m, b));
+  for (const Block& b : m.blocks) {
+    ref_.centroids[b.id] = polygon_centroid(block_polygon(m, b));
+    for (int i = b.first_gp; i < b.first_gp + b.n_gp; ++i) {
+      const GridPoint& g = m.gp[static_cast<std::size_t>(i)];
+      if (distance_to_wall(g.x) <= c_.drift.near) continue;
+      ref_.far_block.push_back(b.id);
+      ref_.far_local.push_back(g.local);
+      ref_.far_x.push_back(g.x);
+    }
+  }
   // The wall points: the boundary gridpoint of a remaining block nearest to each, within a tenth
   // of the radius (none if the wall there has fallen in or the outline was not excavated).
   for (std::size_t k = 0; k < 4; ++k) {
@@ -193,26 +202,70 @@ void DriftResults::stage_ended(const Model& m, std::size_t index) {
   v["k_xx_ratio"] = ref_.k[0] > 0.0 ? kxx / ref_.k[0] : kNaN;
   v["k_yy_ratio"] = ref_.k[1] > 0.0 ? kyy / ref_.k[1] : kNaN;
 
-  // Blocks that moved towards the drift by more than fall_displacement since the reference.
+  // The rigid motion of the rock mass since the reference: an earthquake moves the whole model
+  // with the ground (its residual displacement) and, with viscous boundaries that hold no rigid
+  // mode, may turn it a little; neither is motion of the rock around the drift. The frame is the
+  // rotation and translation that best map the far field's gridpoints from the reference onto
+  // their present places (least squares: the 2D Kabsch/Procrustes solution); `back` takes a
+  // present position into the reference's frame, where everything below is measured.
   std::map<BlockId, int> position;
   for (std::size_t i = 0; i < m.blocks.size(); ++i) position[m.blocks[i].id] = static_cast<int>(i);
-  for (const Block& b : m.blocks) {
+  std::vector<std::pair<Vec2, Vec2>> pairs;  // (reference, now)
+  for (std::size_t k = 0; k < ref_.far_x.size(); ++k)
+    if (const auto it = position.find(ref_.far_block[k]); it != position.end()) {
+      const Block& b = m.blocks[static_cast<std::size_t>(it->second)];
+      pairs.emplace_back(ref_.far_x[k], m.gp[static_cast<std::size_t>(b.first_gp + static_cast<int>(ref_.far_local[k]))].x);
+    }
+  Vec2 pbar = Vec2::Zero(), qbar = Vec2::Zero();
+  double theta = 0.0;
+  if (!pairs.empty() && index != d.reference_stage) {  // at the reference the frame is the identity
+    for (const auto& [p, q] : pairs) {
+      pbar += p;
+      qbar += q;
+    }
+    pbar /= static_cast<double>(pairs.size());
+    qbar /= static_cast<double>(pairs.size());
+    double sdot = 0.0, scross = 0.0;
+    for (const auto& [p, q] : pairs) {
+      const Vec2 a = p - pbar, b = q - qbar;
+      sdot += a.dot(b);
+      scross += a.x() * b.y() - a.y() * b.x();
+    }
+    theta = std::atan2(scross, sdot);
+  }
+  const double cs = std::cos(theta), sn = std::sin(theta);
+  const auto back = [&](const Vec2& x) -> Vec2 {  // a Vec2, not an Eigen expression of temporaries
+    const Vec2 r = x - qbar;
+    return Vec2(cs * r.x() + sn * r.y(), -sn * r.x() + cs * r.y()) + pbar;
+  };
+  const Vec2 rc = centre_ - pbar;
+  const Vec2 centre_moved = Vec2(cs * rc.x() - sn * rc.y(), sn * rc.x() + cs * rc.y()) + qbar - centre_;
+  v["frame_x_m"] = centre_moved.x();
+  v["frame_y_m"] = centre_moved.y();
+  v["frame_rotation_rad"] = theta;
+  std::vector<Vec2> centroid(m.blocks.size());
+  std::vector<double> area(m.blocks.size());
+  for (std::size_t i = 0; i < m.blocks.size(); ++i) {
+    const Polygon p = block_polygon(m, m.blocks[i]);
+    centroid[i] = back(polygon_centroid(p));
+    area[i] = std::abs(signed_area(p));
+  }
+  // Blocks that moved towards the drift by more than fall_displacement since the reference.
+  for (std::size_t i = 0; i < m.blocks.size(); ++i) {
+    const Block& b = m.blocks[i];
     if (std::any_of(fallen_.begin(), fallen_.end(), [&](const Fallen& f) { return f.id == b.id; })) continue;
     const auto r = ref_.centroids.find(b.id);
     if (r == ref_.centroids.end()) continue;
-    const Polygon p = block_polygon(m, b);
-    const Vec2 xc = polygon_centroid(p);
+    const Vec2 xc = centroid[i];
     const double moved = (xc - r->second).norm();
     if (moved > d.fall_displacement && (xc - centre_).norm() < (r->second - centre_).norm())
-      fallen_.push_back({b.id, b.name, std::abs(signed_area(p)), moved, index + 1});
+      fallen_.push_back({b.id, b.name, area[i], moved, index + 1});
   }
   double fallen_area = 0.0;
   for (Fallen& f : fallen_) {
     fallen_area += f.area;
-    if (const auto it = position.find(f.id); it != position.end()) {
-      const Block& b = m.blocks[static_cast<std::size_t>(it->second)];
-      f.displacement = (polygon_centroid(block_polygon(m, b)) - ref_.centroids[f.id]).norm();
-    }
+    if (const auto it = position.find(f.id); it != position.end())
+      f.displacement = (centroid[static_cast<std::size_t>(it->second)] - ref_.centroids[f.id]).norm();
   }
   v["fallen_blocks"] = static_cast<double>(fallen_.size());
   v["fallen_area_m2"] = fallen_area;
@@ -225,7 +278,7 @@ void DriftResults::stage_ended(const Model& m, std::size_t index) {
     if (it == position.end()) continue;
     const Block& b = m.blocks[static_cast<std::size_t>(it->second)];
     const Vec2 x = m.gp[static_cast<std::size_t>(b.first_gp + static_cast<int>(ref_.wall_local[k]))].x;
-    const Vec2 du = x - ref_.wall_x[k];
+    const Vec2 du = back(x) - ref_.wall_x[k];
     u[k] = 0.0 + (k == 0 ? -du.y() : k == 1 ? du.y() : k == 2 ? du.x() : -du.x());  // 0.0 +: no "-0"
   }
   for (std::size_t k = 0; k < 4; ++k) v[std::string(kWallNames[k]) + "_inward_m"] = u[k];
@@ -298,6 +351,9 @@ CheckpointArrays DriftResults::saved_state() const {
   }
   auto& cen = a["drift_reference_centroids"];
   for (const auto& [id, x] : ref_.centroids) cen.insert(cen.end(), {static_cast<double>(id_value(id)), x.x(), x.y()});
+  auto& far = a["drift_reference_far_field"];
+  for (std::size_t k = 0; k < ref_.far_x.size(); ++k)
+    far.insert(far.end(), {static_cast<double>(id_value(ref_.far_block[k])), static_cast<double>(ref_.far_local[k]), ref_.far_x[k].x(), ref_.far_x[k].y()});
   auto& wall = a["drift_reference_wall"];
   for (std::size_t k = 0; k < 4; ++k)
     wall.insert(wall.end(), {ref_.wall_found[k] ? 1.0 : 0.0, static_cast<double>(id_value(ref_.wall_block[k])),
@@ -332,6 +388,12 @@ void DriftResults::restore_state(const CheckpointArrays& a, std::size_t stages_c
   }
   if (const auto* cen = get("drift_reference_centroids"))
     for (std::size_t i = 0; i + 2 < cen->size(); i += 3) ref_.centroids[BlockId{static_cast<std::int32_t>((*cen)[i])}] = {(*cen)[i + 1], (*cen)[i + 2]};
+  if (const auto* far = get("drift_reference_far_field"))
+    for (std::size_t i = 0; i + 3 < far->size(); i += 4) {
+      ref_.far_block.push_back(BlockId{static_cast<std::int32_t>((*far)[i])});
+      ref_.far_local.push_back(static_cast<LocalIndex>((*far)[i + 1]));
+      ref_.far_x.emplace_back((*far)[i + 2], (*far)[i + 3]);
+    }
   if (const auto* wall = get("drift_reference_wall"); wall && wall->size() == 20)
     for (std::size_t k = 0; k < 4; ++k) {
       const double* w = wall->data() + 5 * k;
@@ -355,7 +417,7 @@ void DriftResults::restore_state(const CheckpointArrays& a, std::size_t stages_c
     }
   // The rows: their columns are the ones this case makes (the same sets), in the map's order.
   if (const auto* rows = get("drift_rows")) {
-    std::vector<std::string> cols{"fallen_area_m2", "fallen_blocks", "horizontal_convergence_m", "k_xx_m2", "k_xx_ratio", "k_xy_m2",
+    std::vector<std::string> cols{"fallen_area_m2", "fallen_blocks", "frame_rotation_rad", "frame_x_m", "frame_y_m", "horizontal_convergence_m", "k_xx_m2", "k_xx_ratio", "k_xy_m2",
                                   "k_yy_m2", "k_yy_ratio", "loosened_contacts", "loosened_extent_m", "max_slip_near_m",
                                   "vertical_convergence_m"};
     for (const char* w : kWallNames) cols.push_back(std::string(w) + "_inward_m");

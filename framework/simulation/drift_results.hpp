@@ -47,6 +47,11 @@ class DriftResults {
   struct Reference {
     std::map<ContactKey, std::pair<double, double>> contacts;  // u_s, u_n at the reference
     std::map<BlockId, Vec2> centroids;                          // block centroids at the reference
+    // The far field: gridpoints farther than `near` from the wall (block id, local index, position
+    // at the reference), whose rigid motion since is the frame the results are measured in.
+    std::vector<BlockId> far_block;
+    std::vector<LocalIndex> far_local;
+    std::vector<Vec2> far_x;
     // The wall points (crown, invert, left and right springlines): the nearest boundary gridpoint
     // of a remaining block, by its block id and local index, and its position at the reference.
     std::array<BlockId, 4> wall_block{};

@@ -47,9 +47,12 @@ with h5py.File(out + "/history.h5", "r", locking=False) as f:
     series = {k: h[k][:] for k in ("crown_y", "springline_x")}
 moved = {k: v[-1] - v[stage == 2][-1] for k, v in series.items()}
 last = ev[-1]
+# events.csv measures in the frame of the far field (its mean displacement, frame_x/y_m).
+frame = {"crown_y": float(last["frame_y_m"]), "springline_x": float(last["frame_x_m"])}
 for col, hist, sign in (("crown_inward_m", "crown_y", -1), ("right_springline_inward_m", "springline_x", -1)):
-    check(abs(float(last[col]) - sign * moved[hist]) < 5e-5,
-          f"{col}: {float(last[col]) * 1e3:.4f} mm, the history {hist} {sign * moved[hist] * 1e3:.4f} mm")
+    expect = sign * (moved[hist] - frame[hist])
+    check(abs(float(last[col]) - expect) < 5e-5,
+          f"{col}: {float(last[col]) * 1e3:.4f} mm, the history {hist} less the frame's {expect * 1e3:.4f} mm")
 check(0 < float(last["crown_inward_m"]) < 0.01, "the crown moved down, by less than a centimetre")
 # The maxima per set and the permeability from the contacts of the last stage.
 ct = rows(out + "/drift/contacts_4_settle.csv")
@@ -85,9 +88,13 @@ import sys, csv
 out = sys.argv[1]
 fb = list(csv.DictReader(l for l in open(out + "/drift/fallen_blocks.csv") if not l.startswith("#")))
 ev = list(csv.DictReader(l for l in open(out + "/drift/events.csv") if not l.startswith("#")))
-good = len(fb) > 0 and all(float(b["displacement_m"]) > 1e-4 and b["stage_name"] in ("loosen", "settle") for b in fb)
-good = good and int(float(ev[-1]["fallen_blocks"])) == len(fb) and ev[0]["fallen_blocks"] == "0"
-print(("ok   " if good else "FAIL ") + f"0.1 mm: {len(fb)} blocks listed (first: {', '.join(b['name'] for b in fb[:5])}), each moved more than it after the reference")
+# Listed with the stage in which each first passed the threshold (its displacement now may be a
+# little less: the rock rebounds); the counts per stage are those of events.csv.
+good = len(fb) > 0 and all(float(b["displacement_m"]) > 0 and b["stage_name"] in ("loosen", "settle") for b in fb)
+good = good and int(float(ev[1]["fallen_blocks"])) == sum(b["stage_name"] == "loosen" for b in fb)
+good = good and int(float(ev[2]["fallen_blocks"])) == len(fb) and ev[0]["fallen_blocks"] == "0"
+print(("ok   " if good else "FAIL ") + f"0.1 mm: {len(fb)} blocks listed (first: {', '.join(b['name'] for b in fb[:5])}), "
+      f"{ev[1]['fallen_blocks']} of them in the first stage after the reference, as events.csv counts")
 sys.exit(0 if good else 1)
 PY
 
