@@ -71,6 +71,11 @@ class BoundaryCondition {
   // After velocities(), once per step: conditions with a dynamic state of their own (the free
   // field's column) advance it by the step's dt.
   virtual void end_step(const Model&, double /*dt*/) {}
+  // A stage starts in which this condition does not act. Conditions that hold the static forces of
+  // the stage before their first one forget them, so that acting again after stages under other
+  // conditions (an earthquake after a return to equilibrium on fixed boundaries) they take the
+  // forces of the stage just before that one, not the stale ones.
+  virtual void deactivated() {}
   // State a condition carries from stage to stage (forces held since a stage's start, a free-field
   // column's motion), written into checkpoints so a restarted run continues it exactly. Empty:
   // nothing to keep.

@@ -59,11 +59,24 @@ void FreeFieldCondition::set_motions(const std::vector<StageMotion>& motions) {
   time_ = 0.0;
 }
 
+// The column starts again from rest with the reactions of the stage before the next active one:
+// the stages in between (a return to equilibrium on fixed boundaries) settled the model, and the
+// column carries only the motion since.
+void FreeFieldCondition::deactivated() {
+  held_ = false;
+  hold_.clear();
+  for (Node& n : nodes_) n.u = n.v = n.f = Vec2::Zero();
+}
+
 void FreeFieldCondition::setup(Model& m) {
   if (!hold_static_ || held_) return;
   held_ = true;
   hold_.resize(nodes_.size());
-  for (std::size_t i = 0; i < nodes_.size(); ++i) hold_[i] = -m.gp[static_cast<std::size_t>(nodes_[i].gp)].f;
+  // Taken away from the gridpoint once held (see QuietCondition::setup: a corner shared with the base).
+  for (std::size_t i = 0; i < nodes_.size(); ++i) {
+    hold_[i] = -m.gp[static_cast<std::size_t>(nodes_[i].gp)].f;
+    m.gp[static_cast<std::size_t>(nodes_[i].gp)].f.setZero();
+  }
 }
 
 Vec2 FreeFieldCondition::element_strain(const Element& e) const {

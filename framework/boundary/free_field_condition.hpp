@@ -46,6 +46,7 @@ class FreeFieldCondition final : public BoundaryCondition {
                      std::vector<Spring> springs, std::vector<SideEdge> edges, bool rigid_base, bool hold_static);
   std::string describe(const Model& m) const override;
   void setup(Model& m) override;
+  void deactivated() override;
   double forces(Model& m, double t) override;
   void end_step(const Model& m, double dt) override;
   void add_dashpots(const Model& m, std::vector<double>& c) const override;

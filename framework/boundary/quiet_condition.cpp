@@ -23,6 +23,13 @@ std::string QuietCondition::describe(const Model& m) const {
   return os.str();
 }
 
+void QuietCondition::deactivated() {
+  held_ = false;
+  hold_.clear();
+  hold_force_ = Vec2::Zero();
+  hold_moment_ = 0.0;
+}
+
 void QuietCondition::setup(Model& m) {
   if (!o_.hold_static || held_) return;
   held_ = true;
@@ -33,10 +40,17 @@ void QuietCondition::setup(Model& m) {
     const Block& b = m.blocks[sel_.block];
     hold_force_ = -b.fc;
     hold_moment_ = -b.moment;
+    m.blocks[sel_.block].fc = Vec2::Zero();
+    m.blocks[sel_.block].moment = 0.0;
     return;
   }
+  // A force held here is taken away from the gridpoint, so that another condition on the same
+  // gridpoint (a model's corner: the seismic base and a free-field side) does not hold it again.
   hold_.resize(sel_.points.size());
-  for (std::size_t k = 0; k < sel_.points.size(); ++k) hold_[k] = -m.gp[sel_.points[k]].f;
+  for (std::size_t k = 0; k < sel_.points.size(); ++k) {
+    hold_[k] = -m.gp[sel_.points[k]].f;
+    m.gp[sel_.points[k]].f.setZero();
+  }
 }
 
 void QuietCondition::set_motions(const std::vector<StageMotion>& motions) {

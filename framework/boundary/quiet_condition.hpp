@@ -31,6 +31,7 @@ class QuietCondition final : public BoundaryCondition {
   QuietCondition(FaceSelection sel, double rho, double cp, double cs, Options o);
   std::string describe(const Model& m) const override;
   void setup(Model& m) override;
+  void deactivated() override;
   double forces(Model&, double t) override;
   // A within record (incident plus reflected waves) at a compliant base is an InputError.
   void set_motions(const std::vector<StageMotion>& motions) override;

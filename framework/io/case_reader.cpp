@@ -233,6 +233,22 @@ Damping read_damping(const Reader& r, const toml::table& t, const std::string& p
     const double xi = r.quantity(t, "damping_ratio", Dimension::dimensionless, path);
     if (xi < 0.0 || xi >= 1.0)
       throw InputError(r.at(*t.get("damping_ratio"), path + ".damping_ratio") + ": must be in [0, 1), got " + std::to_string(xi));
+    // Which terms: both (default), or one of them alone with the fraction exactly at one frequency
+    // (FLAC's and UDEC's mass- and stiffness-only options). The stiffness term shortens the stable
+    // step (docs/engine.md), which small zones of a rock mass cannot afford.
+    const std::string terms = r.str(t, "rayleigh_terms", path, std::string("both"));
+    if (terms != "both") {
+      const std::string where = r.at(*t.get("rayleigh_terms"), path + ".rayleigh_terms");
+      const std::vector<std::string> valid{"both", "mass", "stiffness"};
+      if (terms != "mass" && terms != "stiffness")
+        throw InputError(where + ": unknown '" + terms + "'" + did_you_mean(terms, valid) +
+                         "; valid: both, mass, stiffness");
+      if (const auto* band = t.get("damping_frequency"); band && band->is_array())
+        throw InputError(r.at(*band, path + ".damping_frequency") + ": rayleigh_terms = \"" + terms +
+                         "\" damps by the fraction at one frequency; give one, e.g. \"5 Hz\" (a band needs both terms)");
+      const double f = r.positive(t, "damping_frequency", Dimension::frequency, path);
+      return terms == "mass" ? Damping::rayleigh_mass(xi, f) : Damping::rayleigh_stiffness(xi, f);
+    }
     // One frequency: the fraction at its minimum there; two: the same fraction at both ends of a
     // band (below it at frequencies between them).
     if (const auto* band = t.get("damping_frequency"); band && band->is_array()) {
@@ -624,7 +640,7 @@ StageInput CaseReader::stage(const toml::table& t) const {
   StageSpec& s = in.stage;
   s.name = r.str(t, "name", "stages");
   const std::string path = "stages." + s.name;
-  r.check_keys(t, path, {"name", "damping", "local_damping", "damping_ratio", "damping_frequency", "until", "duration",
+  r.check_keys(t, path, {"name", "damping", "local_damping", "damping_ratio", "damping_frequency", "rayleigh_terms", "until", "duration",
                          "steps", "ratio", "block_ratio", "max_steps", "joints", "excavate", "relax_steps",
                          "mass_scaling_dt", "mass_scaling", "motion", "motion_scale", "pga", "pgv"});
   if (const auto* jn = t.get("joints")) in.joint_changes = read_joint_changes(r, *jn, path);

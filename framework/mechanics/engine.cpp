@@ -30,6 +30,20 @@ Damping Damping::rayleigh_band(double xi, double f1, double f2) {
   return d;
 }
 
+Damping Damping::rayleigh_mass(double xi, double f) {
+  Damping d;
+  d.kind = Kind::rayleigh;
+  d.alpha = 2.0 * xi * 2.0 * std::numbers::pi * f;
+  return d;
+}
+
+Damping Damping::rayleigh_stiffness(double xi, double f) {
+  Damping d;
+  d.kind = Kind::rayleigh;
+  d.beta = 2.0 * xi / (2.0 * std::numbers::pi * f);
+  return d;
+}
+
 Engine::Engine(Model& m, EngineSettings s, Communication& comm) : m_(m), s_(s), comm_(comm) {}
 
 template <class F>
@@ -95,6 +109,8 @@ void Engine::begin_stage(const std::string& name, const Damping& d) {
     if (bc->active_in(name)) {
       active_.push_back(bc.get());
       bc->setup(m_);
+    } else {
+      bc->deactivated();
     }
   refresh_contacts();
   // A time step forced above the stable one would only blow up a few steps later: refuse it now,
@@ -178,15 +194,27 @@ void Engine::compute_time_step() {
   double dt = std::numeric_limits<double>::max();
   const bool scaling = s_.mass_scaling_dt > 0.0;
   const double target = s_.mass_scaling_dt / (2.0 * s_.dt_safety);  // m = k (dt/2)^2 is just stable
+  // Stiffness-proportional Rayleigh damping (zones only) makes a gridpoint a damped oscillator,
+  // c = beta k, xi = beta w / 2, for which central differences are stable for
+  // w dt <= 2 (sqrt(1 + xi^2) - xi) (Belytschko, Liu & Moran 2000, sec. 6.3), that is
+  // dt <= sqrt(beta^2 + 4 m/k) - beta, and a step D needs m >= k D (D + 2 beta) / 4. Taking the
+  // whole row sum (contacts too, which carry no beta) errs on the safe side.
+  const double beta = damping_.kind == Damping::Kind::rayleigh ? damping_.beta : 0.0;
+
   // Over what this process owns; the smallest step of all processes applies (below).
   inertial_mass_.assign(m_.gp.size(), 0.0);
+  physical_mass_ = scaled_mass_ = 0.0;
   for_owned_gridpoints(m_, [&](int i) {
     const GridPoint& g = m_.gp[static_cast<std::size_t>(i)];
     if (m_.blocks[g.block].rigid) return;
     double mass = g.mass;
-    if (scaling && g.stiffness > 0.0) mass = std::max(mass, g.stiffness * target * target);
+    // m = k D (D + 2 beta) / 4 = (k t) t + (k t) beta with t = D / 2 (as written, without beta the
+    // masses are those of the undamped rule to the last bit).
+    if (scaling && g.stiffness > 0.0) mass = std::max(mass, g.stiffness * target * target + g.stiffness * target * beta);
     inertial_mass_[static_cast<std::size_t>(i)] = mass;
-    if (g.stiffness > 0.0) dt = std::min(dt, 2.0 * std::sqrt(mass / g.stiffness));
+    physical_mass_ += g.mass;
+    scaled_mass_ += mass;
+    if (g.stiffness > 0.0) dt = std::min(dt, std::sqrt(beta * beta + 4.0 * mass / g.stiffness) - beta);
   });
   block_mass_.assign(nb, 0.0);
   block_inertia_.assign(nb, 0.0);
@@ -201,6 +229,8 @@ void Engine::compute_time_step() {
     }
     block_mass_[b] = mass;
     block_inertia_[b] = inertia;
+    physical_mass_ += B.mass;
+    scaled_mass_ += mass;
     if (B.fixed || B.prescribed == Block::kDriveAll) return;
     if (kb[b] > 0.0) dt = std::min(dt, 2.0 * std::sqrt(mass / kb[b]));
     if (krot[b] > 0.0) dt = std::min(dt, 2.0 * std::sqrt(inertia / krot[b]));
@@ -225,6 +255,12 @@ void Engine::compute_time_step() {
     if (crot > 0.0 && block_inertia_[b] > 0.0) dt = std::min(dt, 2.0 * block_inertia_[b] / crot);
   });
   dt = comm_.min(dt);
+  if (scaling) {
+    double masses[2] = {physical_mass_, scaled_mass_};
+    comm_.sum(masses, 2);
+    physical_mass_ = masses[0];
+    scaled_mass_ = masses[1];
+  }
   if (dt == std::numeric_limits<double>::max()) dt = 1e-3;  // nothing couples yet: free flight
   critical_dt_ = dt;
   dt *= s_.dt_safety;

@@ -58,6 +58,9 @@ class Engine {
   void run_steps(long n);
 
   double dt() const { return dt_; }
+  // The inertial mass mass scaling added, as a fraction of the model's mass, at the last refresh
+  // (0 without scaling). Dynamic stages that scale the masses of their smallest zones say it.
+  double added_mass_fraction() const { return physical_mass_ > 0.0 ? scaled_mass_ / physical_mass_ - 1.0 : 0.0; }
   double stage_time() const { return stage_time_; }
   const std::string& stage() const { return stage_; }
   // Unbalanced-force ratio: sum of |net force| over sum of |applied and contact forces|.
@@ -108,6 +111,7 @@ class Engine {
   double stage_time_ = 0.0;
   double dt_ = 0.0;
   double critical_dt_ = 0.0;  // stable step before dt_safety, at the last refresh
+  double physical_mass_ = 0.0, scaled_mass_ = 0.0;  // the whole model's, at the last refresh [kg/m]
   double ratio_ = 0.0;
   double block_ratio_ = 0.0;
   int worst_block_ = 0;

@@ -16,6 +16,10 @@ struct Damping {
   // Rayleigh coefficients giving the fraction `xi` at both f1 and f2 [Hz] (less between them):
   // alpha = 2 xi w1 w2 / (w1 + w2), beta = 2 xi / (w1 + w2) (Chopra 2012, sec. 11.4).
   static Damping rayleigh_band(double xi, double f1, double f2);
+  // One term alone, with the fraction `xi` exactly at `f`: mass-proportional alpha = 2 xi w (more
+  // damping below f, less above), stiffness-proportional beta = 2 xi / w (the reverse).
+  static Damping rayleigh_mass(double xi, double f);
+  static Damping rayleigh_stiffness(double xi, double f);
 };
 
 struct EngineSettings {

@@ -119,7 +119,9 @@ class Progress {
     const StageSpec& st = stage.spec();
     std::cout << "stage " << index + 1 << "/" << c_.stages.size() << " '" << st.name << "': time step " << e.dt() << " s, "
               << (st.until == StageSpec::Until::equilibrium ? "until equilibrium" : std::to_string(stage.planned_steps()) + " steps")
-              << ", " << contacts << " contacts\n";
+              << ", " << contacts << " contacts";
+    if (e.added_mass_fraction() > 0.0) std::cout << ", masses scaled (+" << 100.0 * e.added_mass_fraction() << " % of the model's)";
+    std::cout << "\n";
     for (const auto& bc : e.conditions())
       if (bc->active_in(st.name)) std::cout << "  " << bc->describe(c_.model) << "\n";
   }
