@@ -1,0 +1,108 @@
+#!/usr/bin/env bash
+# The small drift study (cases/drift/small.toml, issue 14): in-situ stress, excavation, two
+# earthquakes each followed by a return to equilibrium. Checks:
+#  - the run completes its six stages and writes a row of results per stage from the excavation on;
+#  - the rock mass rides the ground: the base's displacement over each event is the applied
+#    motion's residual displacement (within 5 %), and the results' frame moves with it;
+#  - the returns to equilibrium move nothing of the frame (below 1 mm);
+#  - regression: events.csv against tests/cli/drift/small_events_gold.csv (displacements to
+#    0.2 mm, permeability ratios to 5 %, counts exactly);
+#  - two processes give the same events.csv, bit for bit;
+#  - no shaking, no motion: with the first event's input taken away the drift's crown moves less
+#    than 0.01 mm over 0.5 s and no block falls.
+# Usage: bash drift_study.sh <rockdem-binary> <source-dir>
+set -u
+bin=$1
+src=$2
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
+fail=0
+case_file=$src/cases/drift/small.toml
+
+"$bin" run "$case_file" --out "$tmp/s" --quiet || { echo "FAIL run exited $?"; exit 1; }
+/usr/bin/python3 - "$tmp/s" "$src/tests/cli/drift/small_events_gold.csv" <<'PY' || fail=1
+import sys, csv, h5py, numpy as np
+out, gold_path = sys.argv[1:3]
+fail = False
+def check(good, what):
+    global fail
+    print(("ok   " if good else "FAIL ") + what)
+    fail = fail or not good
+def rows(path):
+    return list(csv.DictReader(l for l in open(path) if not l.startswith("#")))
+ev = rows(out + "/drift/events.csv")
+check([r["kind"] for r in ev] == ["reference", "event", "rest", "event", "rest"], "events.csv: the reference, two events, two rests")
+# The base rides the applied motion.
+for n, stage, before in ((3, "event_1", "stage_2_excavate"), (5, "event_2", "stage_4_rest_1")):
+    lines = [l for l in open(f"{out}/motion_{n}_{stage}.csv") if not l.startswith("#")]
+    residual = float(lines[-1].split(",")[3])
+    with h5py.File(f"{out}/{before}.h5", "r") as a, h5py.File(f"{out}/stage_{n}_{stage}.h5", "r") as b:
+        x0 = a["gridpoints/x0"][:]
+        base = np.abs(x0[:, 1] + 15) < 1e-3
+        moved = (b["gridpoints/x"][:] - a["gridpoints/x"][:])[base, 0].mean()
+    check(abs(moved - residual) < 0.05 * abs(residual),
+          f"{stage}: the base moved {moved:.4f} m, the motion's residual displacement {residual:.4f} m")
+for k in (2, 4):
+    dx = abs(float(ev[k]["frame_x_m"]) - float(ev[k - 1]["frame_x_m"]))
+    dy = abs(float(ev[k]["frame_y_m"]) - float(ev[k - 1]["frame_y_m"]))
+    check(dx < 1e-3 and dy < 1e-3, f"{ev[k]['name']}: the frame moved {dx * 1e3:.3f}, {dy * 1e3:.3f} mm in the return to equilibrium")
+# Regression against the gold file.
+gold = rows(gold_path)
+check(len(gold) == len(ev) and list(gold[0].keys()) == list(ev[0].keys()), "the same rows and columns as the gold file")
+worst = []
+for g, r in zip(gold, ev):
+    for k in g:
+        if k in ("stage", "name", "kind"):
+            ok = g[k] == r[k]
+        elif k.endswith("_m2"):
+            continue  # the ratios below carry the permeability
+        elif k.endswith("_ratio"):
+            ok = abs(float(r[k]) - float(g[k])) <= 0.05 * abs(float(g[k]))
+        elif k in ("fallen_blocks", "loosened_contacts"):
+            ok = abs(float(r[k]) - float(g[k])) <= (0 if k == "fallen_blocks" else max(3, 0.1 * float(g[k])))
+        elif k == "frame_rotation_rad":
+            ok = abs(float(r[k]) - float(g[k])) <= 1e-5
+        elif k == "time_s":
+            ok = abs(float(r[k]) - float(g[k])) <= 0.05 * float(g[k])
+        else:
+            ok = abs(float(r[k]) - float(g[k])) <= 2e-4
+        if not ok:
+            worst.append(f"{r['name']} {k}: {r[k]} (gold {g[k]})")
+check(not worst, "events.csv matches the gold file within its tolerances" + ("" if not worst else ": " + "; ".join(worst[:6])))
+sys.exit(1 if fail else 0)
+PY
+
+# Two processes.
+mpirun -np 2 "$bin" run "$case_file" --out "$tmp/p2" --quiet > "$tmp/p2.log" 2>&1 || { cat "$tmp/p2.log"; echo "FAIL 2-process run"; fail=1; }
+if cmp -s "$tmp/s/drift/events.csv" "$tmp/p2/drift/events.csv"; then echo "ok   2 processes: events.csv identical"
+else echo "FAIL 2 processes: events.csv differs"; diff "$tmp/s/drift/events.csv" "$tmp/p2/drift/events.csv" | head -6; fail=1; fi
+
+# No shaking: the first event without its input, half a second, and nothing after it.
+/usr/bin/python3 - "$case_file" "$tmp/quiet.toml" <<'PY'
+import sys
+s = open(sys.argv[1]).read()
+s = s.replace('"../data/ground_motions', '"' + sys.argv[1].rsplit("/", 2)[0] + '/data/ground_motions')
+head, rest = s.split('[[stages]]\nname = "event_1"', 1)
+event, after = rest.split("[[stages]]", 1)
+event = event.replace('motion = "elcentro"\npgv = "0.5 m/s"\nduration = "auto"', 'duration = "0.5 s"')
+hist = after[after.index("[[histories]]"):]
+s = head + '[[stages]]\nname = "event_1"' + event + hist
+s = s.replace('stages = ["in_situ", "excavate", "rest_1", "rest_2"]', 'stages = ["in_situ", "excavate"]')
+s = s.replace('stages = ["event_1", "event_2"]', 'stages = ["event_1"]')
+open(sys.argv[2], "w").write(s)
+PY
+"$bin" run "$tmp/quiet.toml" --out "$tmp/q" --quiet || { echo "FAIL no-shaking run exited $?"; fail=1; }
+/usr/bin/python3 - "$tmp/q" <<'PY' || fail=1
+import sys, csv, h5py, numpy as np
+out = sys.argv[1]
+with h5py.File(out + "/history.h5", "r", locking=False) as f:
+    h = f["history"]
+    st, cy = h["stage"][:], h["crown_y"][:]
+moved = np.abs(cy[st == 3] - cy[st == 3][0]).max()
+ev = list(csv.DictReader(l for l in open(out + "/drift/events.csv") if not l.startswith("#")))
+good = moved < 1e-5 and ev[-1]["fallen_blocks"] == "0"
+print(("ok   " if good else "FAIL ") + f"no shaking: the crown moved {moved * 1e6:.3f} um in 0.5 s, {ev[-1]['fallen_blocks']} blocks fell")
+sys.exit(0 if good else 1)
+PY
+exit $fail
