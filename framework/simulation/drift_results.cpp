@@ -7,6 +7,7 @@
 #include <limits>
 #include <numbers>
 #include <sstream>
+#include <stdexcept>
 
 #include "framework/core/error.hpp"
 #include "framework/geometry/polygon.hpp"
@@ -94,6 +95,19 @@ std::pair<double, double> DriftResults::since_reference(const Contact& c) const 
   const auto r = ref_.contacts.find(c.key);
   if (r == ref_.contacts.end()) return {c.response.u_s, c.response.u_n};
   return {c.response.u_s - r->second.first, c.response.u_n - r->second.second};
+}
+
+// The columns of events.csv after stage, name, kind and time, in the file's order; stage_ended
+// fills exactly these (checked), the checkpoint keeps the rows in this order.
+std::vector<std::string> DriftResults::columns() const {
+  std::vector<std::string> cols{"fallen_area_m2", "fallen_blocks", "frame_rotation_rad", "frame_x_m", "frame_y_m",
+                                "horizontal_convergence_m", "k_xx_m2", "k_xx_ratio", "k_xy_m2", "k_yy_m2", "k_yy_ratio",
+                                "loosened_contacts", "loosened_extent_m", "max_slip_near_m", "vertical_convergence_m"};
+  for (const char* w : kWallNames) cols.push_back(std::string(w) + "_inward_m");
+  for (const std::string& s : sets_)
+    for (const char* f : {"max_slip_", "max_slip_near_", "mean_slip_near_", "max_opening_near_"}) cols.push_back(f + s + "_m");
+  std::sort(cols.begin(), cols.end());
+  return cols;
 }
 
 double DriftResults::distance_to_wall(const Vec2& p) const {
@@ -284,6 +298,9 @@ void DriftResults::stage_ended(const Model& m, std::size_t index) {
   for (std::size_t k = 0; k < 4; ++k) v[std::string(kWallNames[k]) + "_inward_m"] = u[k];
   v["vertical_convergence_m"] = u[0] + u[1];
   v["horizontal_convergence_m"] = u[2] + u[3];
+  const std::vector<std::string> cols = columns();
+  if (v.size() != cols.size() || !std::all_of(cols.begin(), cols.end(), [&](const std::string& k) { return v.count(k) > 0; }))
+    throw std::logic_error("drift results: the columns of events.csv are out of step with DriftResults::columns()");
   rows_.push_back(std::move(row));
   write_files(m, index);
 }
@@ -301,12 +318,12 @@ void DriftResults::write_files(const Model& m, std::size_t index) const {
   {
     std::ostringstream os;
     os << head.str() << "stage,name,kind,time_s";
-    const auto& cols = rows_.front().values;
-    for (const auto& [k, val] : cols) os << "," << k;
+    const std::vector<std::string> cols = columns();
+    for (const std::string& k : cols) os << "," << k;
     os << "\n";
     for (const Row& r : rows_) {
       os << r.stage << "," << r.name << "," << r.kind << "," << format(r.time);
-      for (const auto& [k, val] : cols) {
+      for (const std::string& k : cols) {
         const auto it = r.values.find(k);
         os << "," << format(it != r.values.end() ? it->second : kNaN);
       }
@@ -365,7 +382,7 @@ CheckpointArrays DriftResults::saved_state() const {
   auto& rows = a["drift_rows"];
   for (const Row& r : rows_) {
     rows.insert(rows.end(), {static_cast<double>(r.stage), r.time});
-    for (const auto& [k, val] : rows_.front().values) rows.push_back(r.values.count(k) ? r.values.at(k) : kNaN);
+    for (const std::string& k : columns()) rows.push_back(r.values.count(k) ? r.values.at(k) : kNaN);
   }
   return a;
 }
@@ -417,13 +434,7 @@ void DriftResults::restore_state(const CheckpointArrays& a, std::size_t stages_c
     }
   // The rows: their columns are the ones this case makes (the same sets), in the map's order.
   if (const auto* rows = get("drift_rows")) {
-    std::vector<std::string> cols{"fallen_area_m2", "fallen_blocks", "frame_rotation_rad", "frame_x_m", "frame_y_m", "horizontal_convergence_m", "k_xx_m2", "k_xx_ratio", "k_xy_m2",
-                                  "k_yy_m2", "k_yy_ratio", "loosened_contacts", "loosened_extent_m", "max_slip_near_m",
-                                  "vertical_convergence_m"};
-    for (const char* w : kWallNames) cols.push_back(std::string(w) + "_inward_m");
-    for (const std::string& s : sets_)
-      for (const char* f : {"max_slip_", "max_slip_near_", "mean_slip_near_", "max_opening_near_"}) cols.push_back(f + s + "_m");
-    std::sort(cols.begin(), cols.end());
+    const std::vector<std::string> cols = columns();
     const std::size_t width = 2 + cols.size();
     for (std::size_t i = 0; i + width <= rows->size(); i += width) {
       Row r;

@@ -71,6 +71,7 @@ class DriftResults {
   void take_reference(const Model& m);
   void write_files(const Model& m, std::size_t index) const;
   double distance_to_wall(const Vec2& p) const;
+  std::vector<std::string> columns() const;
   // A contact's slip and opening since the reference (from zero for a contact made since).
   std::pair<double, double> since_reference(const Contact& c) const;
 
