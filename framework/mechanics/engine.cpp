@@ -97,6 +97,7 @@ void Engine::begin_stage(const std::string& name, const Damping& d) {
   stage_ = name;
   stage_time_ = 0.0;
   damping_ = d;
+  previous_mass_.clear();  // a new stage's masses (its own mass scaling) take no momentum rule
   for (auto& g : m_.gp) {
     g.fixed_x = g.fixed_y = false;
   }
@@ -155,7 +156,11 @@ void Engine::refresh_contacts() {
     detect_contacts(m_, s_.detection);
   });
   steps_since_refresh_ = 0;
+  travel_since_refresh_ = 0.0;
   compute_time_step();
+  // Velocities the mass rule changed reach the other processes' ghosts before the next step's
+  // contact forces use them (the same decision on every process: same stage, same points).
+  if (momentum_rule_) comm_.forward(m_);
 }
 
 void Engine::compute_time_step() {
@@ -202,6 +207,17 @@ void Engine::compute_time_step() {
   const double beta = damping_.kind == Damping::Kind::rayleigh ? damping_.beta : 0.0;
 
   // Over what this process owns; the smallest step of all processes applies (below).
+  // Scaled masses follow the stiffnesses, which change as contacts come and go and zones deform.
+  // A mass that grows under a moving gridpoint keeps its momentum, not its velocity: holding the
+  // velocity would add kinetic energy every time a vibrating point's stiffness (and so its mass)
+  // rises, and a sliver zone chattering against a joint was pumped that way until it turned
+  // inside out. A mass that shrinks keeps its velocity (kinetic energy falls). Same blocks, same
+  // gridpoints: within a stage; a stage start or an excavation renumbers them and starts afresh.
+  // Quasi-static stages (local damping) are left alone: their velocities are a device of the
+  // relaxation, local damping takes such energy out, and their load paths stay as they were.
+  previous_mass_.swap(inertial_mass_);
+  const bool same_points = previous_mass_.size() == m_.gp.size() && damping_.kind != Damping::Kind::local;
+  momentum_rule_ = same_points;
   inertial_mass_.assign(m_.gp.size(), 0.0);
   physical_mass_ = scaled_mass_ = 0.0;
   for_owned_gridpoints(m_, [&](int i) {
@@ -212,6 +228,10 @@ void Engine::compute_time_step() {
     // masses are those of the undamped rule to the last bit).
     if (scaling && g.stiffness > 0.0) mass = std::max(mass, g.stiffness * target * target + g.stiffness * target * beta);
     inertial_mass_[static_cast<std::size_t>(i)] = mass;
+    if (same_points) {
+      const double before = previous_mass_[static_cast<std::size_t>(i)];
+      if (before > 0.0 && mass > before) m_.gp[static_cast<std::size_t>(i)].v *= before / mass;
+    }
     physical_mass_ += g.mass;
     scaled_mass_ += mass;
     if (g.stiffness > 0.0) dt = std::min(dt, std::sqrt(beta * beta + 4.0 * mass / g.stiffness) - beta);
@@ -398,9 +418,12 @@ void Engine::step() {
   for (auto* bc : active_) bc->velocities(m_, stage_time_ + dt_);
   for (auto* bc : active_) bc->end_step(m_, dt_);
   // Positions from the final half-step velocities (prescribed ones included).
+  double speed2 = 0.0;
   for_owned_gridpoints(m_, [&](int i) {
     GridPoint& g = m_.gp[static_cast<std::size_t>(i)];
-    if (!m_.blocks[g.block].rigid) g.x += g.v * dt_;
+    if (m_.blocks[g.block].rigid) return;
+    g.x += g.v * dt_;
+    speed2 = std::max(speed2, g.v.squaredNorm());
   });
   for_owned_blocks(m_, [&](int bi) {
     Block& b = m_.blocks[static_cast<std::size_t>(bi)];
@@ -414,8 +437,14 @@ void Engine::step() {
       const Vec2 r(c * r0.x() - s * r0.y(), s * r0.x() + c * r0.y());
       g.x = b.xc + r;
       g.v = b.vc + b.omega * perp(r);
+      speed2 = std::max(speed2, g.v.squaredNorm());
     }
   });
+  // The largest speed of all processes, so that every one refreshes at the same step (and the
+  // result does not depend on the number of processes).
+  double speed = std::sqrt(speed2);
+  if (comm_.size() > 1) speed = -comm_.min(-speed);
+  travel_since_refresh_ += speed * dt_;
   comm_.forward(m_);
   energy_.after_step(m_, EnergyMasses{inertial_mass_, block_mass_, block_inertia_}, dt_, beta);
   if (comm_.size() > 1 && energy_.tracking()) sum_energy();
@@ -425,7 +454,12 @@ void Engine::step() {
   // Stop at the first non-finite force. A non-finite position that no force has seen yet (a
   // prescribed NaN velocity) is refused by the broad phase at the next refresh.
   if (nonfinite_) check_state();
-  if (++steps_since_refresh_ >= s_.refresh_interval) refresh_contacts();
+  // Two points approaching each other close their gap by at most twice the travel; once that
+  // could exceed the detection tolerance (the margin beyond the rounding within which pairs are
+  // found), a pair not yet detected could touch unseen: a fast block (one falling into a drift)
+  // would strike deep into another and explode the step.
+  const double margin = m_.contacts.tolerance > 0.0 ? m_.contacts.tolerance : s_.detection.distance;
+  if (++steps_since_refresh_ >= s_.refresh_interval || 2.0 * travel_since_refresh_ > margin) refresh_contacts();
 }
 
 void Engine::integrate() {

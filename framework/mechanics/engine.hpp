@@ -120,6 +120,8 @@ class Engine {
   std::vector<double> step_sums_;  // every process's step quantities (step())
   bool nonfinite_ = false;  // the last step's force sums were NaN or inf
   std::vector<double> inertial_mass_;      // per gridpoint (after mass scaling)
+  std::vector<double> previous_mass_;      // the same before the last time-step computation
+  bool momentum_rule_ = false;             // the last computation applied the momentum rule
   std::vector<double> dashpot_;            // per gridpoint: viscous boundaries' dashpots [N s/m per m]
   std::vector<double> block_mass_, block_inertia_;
   std::vector<Vec2> block_contact_force_;  // per block, last step
@@ -135,6 +137,10 @@ class Engine {
   EnergyTerms energy_sum_;  // its terms summed over the processes
   double energy_scale_ = 0.0;  // the largest summed term so far
   long steps_since_refresh_ = 0;
+  // The farthest any gridpoint can have moved since the last detection (sum over steps of the
+  // largest speed times dt): contacts are refreshed before two points could close the detection
+  // tolerance between them (a Verlet-style skin), not only every refresh_interval steps.
+  double travel_since_refresh_ = 0.0;
 };
 
 }  // namespace rockdem
