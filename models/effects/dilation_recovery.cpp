@@ -8,9 +8,10 @@
 // the further below the forward curve (hysteresis); the recovery stops at the gouge residual, so
 // the path stays below any forward curve above that residual. The effect sets the base law's
 // dilation rate so that its dilation follows d(x): rate = (d(x_end) - d)/|du_s|, never positive
-// (no dilation on the way back) and at most 2 (1 + h) d_r/|u_r| in magnitude (twice the steepest
-// slope of d), so that the lag left by the elastic part of the reversal is caught up within a
-// fraction of a millimetre instead of in one jump. Away from the origin the base law's rate stands.
+// (no dilation on the way back) and at most 2 (1 + h) min(d_r/|u_r|, c) in magnitude (twice the
+// steepest slope of d, with c the steepest dilation rate met moving away from the origin), so
+// that the lag left by the elastic part of the reversal is caught up within a fraction of a
+// millimetre instead of in one jump. Away from the origin the base law's rate stands.
 #include <algorithm>
 #include <cmath>
 
@@ -46,6 +47,7 @@ struct DilationRecovery {
     double u_rev;   // offset where the current return stroke began [m]
     double d_rev;   // dilation there [m]
     double d_last;  // the base law's dilation after the last update [m]
+    double climb;   // the steepest dilation rate met moving away from the mated position
     bool returning;
   };
   static void init(const Params&, State& s) { s = State{}; }
@@ -54,6 +56,7 @@ struct DilationRecovery {
     if (ctx.du_s == 0.0) return;  // a pause changes nothing
     if (!ctx.toward_origin) {
       s.returning = false;
+      s.climb = std::max(s.climb, ctx.dilation_rate);
       return;
     }
     if (!s.returning) {
@@ -65,7 +68,14 @@ struct DilationRecovery {
     const double x = u_end * ctx.u_s <= 0.0 ? 0.0 : std::min(1.0, std::abs(u_end / s.u_rev));
     if (!(s.d_rev > 0.0)) return;
     const double target = std::max(p.residual_fraction * s.d_rev, s.d_rev * (x - p.hysteresis * x * (1.0 - x)));
-    const double cap = 2.0 * (1.0 + p.hysteresis) * s.d_rev / std::abs(s.u_rev);
+    // The rate is bounded by twice the path's steepest slope, so that the lag left by the elastic
+    // part of the reversal is caught up, and that slope by the steepest climb met on the way out:
+    // the faces are ridden down no steeper than they were climbed. Without the second bound a
+    // contact that reverses a hair from the mated position with dilation left from earlier
+    // strokes (|u_rev| ~ 1e-7 m, d_rev ~ 0.1 mm: any contact vibrating in an earthquake) asks for
+    // a rate of 1000, a normal-shear coupling a thousand times kn that no stable time step allows
+    // (the small drift study with Continuously-Yielding joints blew up on it).
+    const double cap = 2.0 * (1.0 + p.hysteresis) * std::min(s.d_rev / std::abs(s.u_rev), s.climb);
     ctx.dilation_rate = std::max(-cap, std::min(0.0, (target - s.d_last) / std::abs(ctx.du_s)));
   }
   static void after(const Params&, State& s, const ShearContext&, const JointResponse& r) { s.d_last = r.dilation; }

@@ -40,7 +40,15 @@ struct ReverseShearDegradation {
   static void modify(const Params& p, State&, ShearContext& ctx) {
     if (!ctx.toward_origin || !(ctx.sigma_n > 0.0)) return;
     const double angle = std::max(0.0, ctx.basic_friction - p.weight * ctx.roughness_angle);
-    ctx.strength = std::min(ctx.strength, ctx.sigma_n * std::tan(angle));
+    // Never below the shear stress the joint already carries in the direction it now moves: a
+    // joint pre-stressed in shear (the in-situ state of a rock mass) that vibrates about its
+    // mated position would otherwise find the bound dropped under its stress, and a law that
+    // returns to a lowered bound through a negative tangent (Continuously-Yielding's F < 0, up to
+    // -4 ks after a reversal) pumps energy into the contact: a drift model blew up on it. After a
+    // real reversal the stress is on the other side (opposite to the motion) and this changes
+    // nothing; the lower bound then applies once the stress reaches it.
+    const double carried = (ctx.du_s > 0.0 ? 1.0 : -1.0) * ctx.tau;
+    ctx.strength = std::min(ctx.strength, std::max(ctx.sigma_n * std::tan(angle), carried));
   }
   static void after(const Params&, State&, const ShearContext&, const JointResponse&) {}
 };

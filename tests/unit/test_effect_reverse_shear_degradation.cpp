@@ -88,3 +88,36 @@ TEST(EffectReverseShearDegradation, DescribedInTheRegistry) {
   ASSERT_EQ(e->params.size(), 2u);
   EXPECT_EQ(e->params[1].name, "weight");
 }
+
+// A joint pre-stressed in shear (a rock mass's in-situ state: 2.2 MPa at 3 MPa, below the forward
+// bound 3 tan 39.3 deg = 2.45 MPa, with no offset) that vibrates about its mated position: moving
+// back toward it, the lowered bound 3 tan(2 phi - phi_m) = 1.57 MPa would lie under the stress it
+// carries, and Continuously-Yielding would return to it through F < 0 (a negative tangent, about
+// -1.6 ks here). The bound never drops under the stress carried in the direction of motion, so
+// the tangent stays >= 0; a real reversal (stress on the other side) is unaffected (above).
+TEST(EffectReverseShearDegradation, NeverDropsTheBoundUnderTheStressCarriedInTheDirectionOfMotion) {
+  const auto params = cy_report({{"dilation", "reversible"}});
+  for (const bool with_effect : {false, true}) {
+    auto m = with_effect ? model("continuously_yielding", params, {effect("reverse_shear_degradation")})
+                         : model("continuously_yielding", params);
+    JointStateBlock b;
+    m->init(b);
+    ContinuouslyYielding::State s = law_state<ContinuouslyYielding::State>(b);
+    s.sigma_n = 3e6;
+    s.tau = 2.2e6;
+    s.u_s = -1e-6;     // a hair on the negative side of the mated position
+    s.last_dir = -1.0;  // it was moving away from it: the next increment is a reversal
+    std::memcpy(b.bytes.data(), &s, sizeof s);
+    JointKinematics k;
+    k.du_s = 1e-7;  // back toward the mated position
+    k.dt = 1e-5;
+    JointResponse r;
+    m->update(b, k, r);
+    const double tau = law_state<ContinuouslyYielding::State>(b).tau;
+    // (Within a thousandth of ks: the bound is scaled to the normal stress the increment ends at.)
+    EXPECT_GE(tau, 2.2e6 - 1e-3 * 29.312e9 * 1e-7)
+        << (with_effect ? "with" : "without") << " the effect: the stress fell by " << 2.2e6 - tau
+        << " Pa on a shear increment in its own direction (a negative tangent; 4.7 kPa before the rule)";
+    EXPECT_LE(tau, 2.2e6 + 29.312e9 * 1e-7 * (1.0 + 1e-12));  // and never stiffer than elastic
+  }
+}
