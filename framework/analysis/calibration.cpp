@@ -65,6 +65,39 @@ std::vector<Slot> make_slots(const CalibrationOptions& options) {
   return slots;
 }
 
+// Every parameter that is not real, as the model runs with it: the value given (case file,
+// --set) or the default, in JSON's own types.
+nlohmann::json settings_of(const CalibrationOptions& options) {
+  nlohmann::json out = nlohmann::json::object();
+  auto add = [&](const std::vector<ParamInfo>& infos, const std::string& prefix, const RawValues& given) {
+    for (const auto& info : infos) {
+      if (info.kind == "real") continue;
+      const auto it = given.find(info.name);
+      const std::string key = prefix + info.name;
+      if (info.kind == "choice") {
+        const auto* s = it == given.end() ? nullptr : std::get_if<std::string>(&it->second.value);
+        out[key] = s ? *s : info.default_text;
+      } else if (info.kind == "bool") {
+        const auto* b = it == given.end() ? nullptr : std::get_if<bool>(&it->second.value);
+        out[key] = b ? *b : info.default_text == "true";
+      } else {
+        std::int64_t n = 0;
+        if (it == given.end()) n = std::stoll(info.default_text);
+        else if (const auto* i = std::get_if<std::int64_t>(&it->second.value)) n = *i;
+        else if (const auto* d = std::get_if<double>(&it->second.value)) n = static_cast<std::int64_t>(*d);
+        out[key] = n;
+      }
+    }
+  };
+  add(JointLawRegistry::instance().get(options.law, "joint law", "calibrate --law").params, "", options.law_values);
+  for (const auto& e : options.effects) {
+    const auto it = options.effect_values.find(e);
+    add(EffectRegistry::instance().get(e, "effect", "calibrate --effects").params, e + ".",
+        it == options.effect_values.end() ? RawValues{} : it->second);
+  }
+  return out;
+}
+
 // A parameter by its qualified name, or an effect parameter by its own name when only one
 // effect has it; InputError naming `what` and listing the real parameters otherwise.
 Slot& find_slot(std::vector<Slot>& slots, const std::string& name, const std::string& what, const CalibrationOptions& options) {
@@ -312,6 +345,7 @@ CalibrationResult calibrate(const MeasurementFile& data, const Segmentation& seg
   CalibrationResult res;
   res.law = options.law;
   res.effects = options.effects;
+  res.settings = settings_of(options);
   const std::map<std::string, double> fix = free_and_fix(slots, options);
   calibration_detail::set_bounds_and_starts(slots, data, seg, options, fix, res.warnings);
 

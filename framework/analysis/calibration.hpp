@@ -81,6 +81,10 @@ struct CalibrationResult {
   std::string law;
   std::vector<std::string> effects;
   std::vector<FittedParam> params;  // every real parameter, law first then effects in order
+  // The choices, switches and counts the model ran with ("dilation": "reversible",
+  // "directional_wear.bins": 4), given or default: with `params` they rebuild the fitted joint
+  // (a case's `[[joints]] calibration = "fit.json"`).
+  nlohmann::json settings = nlohmann::json::object();
   std::string status;               // "converged", "iteration limit", "failed"
   bool converged = false;
   int iterations = 0;

@@ -43,6 +43,7 @@ nlohmann::json to_json(const CalibrationResult& r) {
     }
     j["parameters"].push_back(e);
   }
+  j["settings"] = r.settings;
   j["warnings"] = r.warnings;
   j["wall_ms"] = r.wall_ms;
   return j;

@@ -513,7 +513,7 @@ nlohmann::json to_json(const Diagnosis& d, const std::string& data_file) {
     j["ladder"].push_back({{"effects", s.effects}, {"nrmse", nrmse_json(s.fit.nrmse)}, {"bic", s.fit.bic}, {"k", s.fit.k}});
   }
   j["final"] = {{"effects", d.ladder.back().effects}, {"params", params_json(d.ladder.back().fit)},
-                {"nrmse", nrmse_json(d.ladder.back().fit.nrmse)}};
+                {"settings", d.ladder.back().fit.settings}, {"nrmse", nrmse_json(d.ladder.back().fit.nrmse)}};
   j["warnings"] = d.warnings;
   j["confident"] = d.confident;
   j["wall_ms"] = d.wall_ms;

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <sstream>
 #include <vector>
 
@@ -184,8 +185,13 @@ const CommandRegistrar reg{Command{
       sub.add_option("--write-blocks", *write_blocks,
                      "build the model, write its blocks for inspection to this folder (blocks.vtu, traces.vtu, "
                      "blocks.csv) and stop without running");
+      auto joints = std::make_shared<std::vector<std::string>>();
+      sub.add_option("--joint", *joints,
+                     "NAME=FILE: the case's [[joints]] entry NAME takes its law, parameters and effects from FILE (a TOML "
+                     "table with the keys of a [[joints]] entry, or the JSON of rockdem calibrate/diagnose); where it acts "
+                     "stays as in the case; FILE is copied into the output folder (joints/); repeatable");
       return [file, out, use_default, quiet, no_plots, overwrite, restart, velocity, mass_dt, nstages, write_case,
-              write_blocks]() -> int {
+              write_blocks, joints]() -> int {
         // Under mpirun every process runs the case (its share of the blocks); process 0 writes.
         const std::unique_ptr<Communication> parallel = make_communication();
         Communication& comm = parallel ? *parallel : serial_communication();
@@ -197,6 +203,18 @@ const CommandRegistrar reg{Command{
         if (!lab && lab_options)
           throw InputError("rockdem run: --shear-velocity, --mass-scaling-dt, --stages and --write-case apply to laboratory-test "
                            "case files ([joint] and [[stage]] tables, e.g. cases/direct_shear/test09_mohr_coulomb.toml)");
+        std::map<std::string, std::string> joint_files;
+        for (const auto& a : *joints) {
+          const auto eq = a.find('=');
+          if (eq == std::string::npos || eq == 0 || eq + 1 == a.size())
+            throw InputError("--joint " + a + ": write NAME=FILE, e.g. --joint joints=cases/drift/laws/barton_bandis.toml");
+          const std::string name = a.substr(0, eq), f = a.substr(eq + 1);
+          if (!fs::is_regular_file(f)) throw InputError("--joint " + a + ": joint file '" + f + "' does not exist");
+          if (!joint_files.emplace(name, f).second) throw InputError("--joint " + a + ": joint '" + name + "' is given twice");
+        }
+        if (!joint_files.empty() && (lab || *use_default))
+          throw InputError("rockdem run: --joint applies to DEM case files with [[joints]] entries (a laboratory-test case "
+                           "names its one joint in [joint])");
         Case c;
         if (lab) {
           const LabTest test = read_lab_test(*file);
@@ -216,7 +234,7 @@ const CommandRegistrar reg{Command{
           c = direct_shear_case(test, o);
         } else {
           c = *use_default ? load_case_text(kDefaultCaseText, "built-in default case (cases/direct_shear/test09_coulomb.toml)", ".")
-                           : load_case(*file);
+                           : load_case(*file, joint_files);
         }
         if (!write_blocks->empty()) {
           if (!comm.root()) return 0;
@@ -237,6 +255,15 @@ const CommandRegistrar reg{Command{
             prepare_run_folder(dir, *restart, *overwrite, *use_default, *file, c, m);
           } catch (const InputError& e) {
             refused = e.what();
+          }
+        }
+        if (comm.root() && refused.empty()) {
+          // What made the joints goes with the results (the manifest's command line names them).
+          for (const auto& [name, f] : joint_files) {
+            std::error_code ec;
+            fs::create_directories(dir / "joints", ec);
+            fs::copy_file(f, dir / "joints" / (name + fs::path(f).extension().string()), fs::copy_options::overwrite_existing, ec);
+            if (ec) refused = "cannot copy --joint " + name + "=" + f + " into " + (dir / "joints").string() + ": " + ec.message();
           }
         }
         refused = comm.first_message(refused);

@@ -1,7 +1,9 @@
 #include "framework/io/case.hpp"
 
+#include <algorithm>
 #include <filesystem>
 
+#include "framework/core/did_you_mean.hpp"
 #include "framework/core/error.hpp"
 #include "framework/core/names.hpp"
 #include "framework/io/case_builder.hpp"
@@ -16,13 +18,24 @@ namespace fs = std::filesystem;
 // Each entry goes to the builder as soon as it is read, so that mistakes in different entries
 // are reported in the file's order of tables and entries, as when reading and building were one
 // pass (within one entry, what the reader checks comes before what the builder checks).
-Case build(const toml::table& root, const CaseReader& r) {
+Case build(const toml::table& root, const CaseReader& r, const std::map<std::string, std::string>& joint_files = {}) {
   CaseBuilder b(r.file(), r.top_level(root));
   const auto* model = root["model"].as_table();
   b.model_settings(model ? r.model_settings(*model) : ModelSettingsSpec{});
   if (const auto* t = root["time"].as_table()) b.time(r.time(*t));
   for (const auto* t : r.tables(root, "materials")) b.add_material(r.material(*t));
-  for (const auto* t : r.tables(root, "joints")) b.add_joint(r.joint(*t));
+  std::vector<std::string> joint_names;
+  for (const auto* t : r.tables(root, "joints")) {
+    const auto* n = t->get("name");
+    const std::string name = n && n->is_string() ? n->as_string()->get() : std::string();
+    const auto it = joint_files.find(name);
+    b.add_joint(r.joint(*t, it == joint_files.end() ? std::string() : it->second));
+    joint_names.push_back(name);
+  }
+  for (const auto& [name, f] : joint_files)
+    if (std::find(joint_names.begin(), joint_names.end(), name) == joint_names.end())
+      throw InputError("--joint " + name + "=" + f + ": " + r.file() + " has no [[joints]] entry '" + name + "'" +
+                       did_you_mean(name, joint_names) + "; its joints: " + join_names(joint_names));
   for (const auto* t : r.tables(root, "blocks")) b.add_block(r.block(*t));
   if (const auto* t = root["rock_mass"].as_table())
     for (const auto& s : rock_mass_blocks(read_rock_mass(*t, r.file()))) b.add_block(s);
@@ -39,7 +52,8 @@ Case build(const toml::table& root, const CaseReader& r) {
   return b.finish();
 }
 
-Case parse(const std::string& text, const std::string& name, const std::string& base_dir, bool from_file) {
+Case parse(const std::string& text, const std::string& name, const std::string& base_dir, bool from_file,
+           const std::map<std::string, std::string>& joint_files = {}) {
   toml::table root;
   try {
     root = from_file ? toml::parse_file(name) : toml::parse(text, name);
@@ -47,7 +61,7 @@ Case parse(const std::string& text, const std::string& name, const std::string& 
     throw InputError(name + ":" + std::to_string(e.source().begin.line) + ":" + std::to_string(e.source().begin.column) +
                      ": TOML syntax error: " + std::string(e.description()));
   }
-  return build(root, CaseReader(name, base_dir));
+  return build(root, CaseReader(name, base_dir), joint_files);
 }
 
 }  // namespace
@@ -58,9 +72,9 @@ int Case::block_index(const std::string& name, const std::string& where) const {
   throw InputError(where + ": unknown block '" + name + "'; blocks: " + join_names(block_names));
 }
 
-Case load_case(const std::string& path) {
+Case load_case(const std::string& path, const std::map<std::string, std::string>& joint_files) {
   if (!fs::exists(path)) throw InputError(path + ": case file does not exist");
-  return parse("", path, fs::path(path).parent_path().string(), true);
+  return parse("", path, fs::path(path).parent_path().string(), true, joint_files);
 }
 
 Case load_case_text(const std::string& text, const std::string& name, const std::string& base_dir) {

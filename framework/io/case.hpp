@@ -5,6 +5,7 @@
 // The case-file keys are documented in docs/case-files.md. The file is read table by table into
 // plain specs (case_reader.hpp, case_spec.hpp), which case_builder.hpp turns into the Case
 // (case_data.hpp).
+#include <map>
 #include <string>
 
 #include <toml++/toml.h>
@@ -15,7 +16,9 @@ namespace rockdem {
 
 // Read a case file. `name` is used in messages; `text` (optional) is parsed instead of the file
 // (the built-in default case).
-Case load_case(const std::string& path);
+// `joint_files` (rockdem run --joint NAME=FILE): the [[joints]] entry NAME takes its law,
+// parameters and effects from FILE (CaseReader::joint); a NAME that no entry has is an InputError.
+Case load_case(const std::string& path, const std::map<std::string, std::string>& joint_files = {});
 Case load_case_text(const std::string& text, const std::string& name, const std::string& base_dir);
 // A case already parsed (or built in code, e.g. the direct-shear specimen of a laboratory test).
 Case load_case_table(const toml::table& root, const std::string& name, const std::string& base_dir);

@@ -29,6 +29,9 @@ struct StageSpec {
   // tiny part of the model's forces, is not taken for equilibrium.
   double block_ratio = 0.0;
   long max_steps = 1000000;  // cap for `equilibrium`
+  // `equilibrium` not reached within max_steps: stop the run (exit 3), or end the stage there
+  // with a warning and go on (a drift whose loosened blocks keep moving is a result of a study).
+  bool continue_at_max_steps = false;
   // Joint models put in force from this stage on (same law and effects, other parameter values;
   // the contacts keep their state): (index in ContactStore::models, model).
   std::vector<std::pair<int, std::shared_ptr<const JointModel>>> joint_models;

@@ -7,6 +7,7 @@
 #include "framework/core/error.hpp"
 #include "framework/core/names.hpp"
 #include "framework/core/units.hpp"
+#include "framework/io/calibration_file.hpp"
 #include "framework/io/measurement_csv.hpp"
 #include "framework/io/toml_values.hpp"
 #include "framework/mechanics/history_quantities.hpp"
@@ -349,6 +350,7 @@ void read_stage_motions(const Reader& r, const toml::table& t, const std::string
     if (in.motions.empty()) throw InputError(where + ": the stage plays no motion (add motion = \"...\")");
     if (++given > 1) throw InputError(where + ": give one of motion_scale, pga and pgv");
     in.motion_scaling = {kind, r.positive(t, key, dim, path)};
+    in.motion_scaling_where = where;
   }
 }
 
@@ -436,6 +438,11 @@ void read_until(const Reader& r, const toml::table& t, const std::string& path, 
     s.until = StageSpec::Until::equilibrium;
     s.ratio = r.positive(t, "ratio", Dimension::dimensionless, path, 1e-5);
     s.max_steps = r.integer(t, "max_steps", path, 1000000);
+    const std::string at_max = r.str(t, "at_max_steps", path, std::string("fail"));
+    if (at_max != "fail" && at_max != "continue")
+      throw InputError(r.at(*t.get("at_max_steps"), path + ".at_max_steps") + ": must be \"fail\" (stop the run, exit code 3) "
+                       "or \"continue\" (end the stage at max_steps with a warning), not '" + at_max + "'");
+    s.continue_at_max_steps = at_max == "continue";
     if (t.contains("block_ratio")) s.block_ratio = r.positive(t, "block_ratio", Dimension::dimensionless, path, 0.0);
   } else if (until == "duration") {
     s.until = StageSpec::Until::duration;
@@ -532,12 +539,34 @@ MaterialSpec CaseReader::material(const toml::table& t) const {
   return s;
 }
 
-JointSpec CaseReader::joint(const toml::table& t) const {
+namespace {
+
+// What a joint is (law, calibration, effects, parameters) from table `t`, read with `r` (the
+// case file, or the file that replaces the entry: `rockdem run --joint NAME=FILE`).
+void read_joint_law(const Reader& r, const toml::table& t, const std::string& path, JointSpec& s) {
+  // calibration = "fit.json": the law, parameters and effects of `rockdem calibrate`/`diagnose`;
+  // the table's own keys are set over them (calibration_file.hpp).
+  const toml::node* calibration = t.get("calibration");
+  s.law = calibration && !t.contains("law") ? std::string() : r.str(t, "law", path);
+  s.effects = read_effects(r, t, path);
+  s.params = raw_values(t, r.file, path, {"name", "law", "between", "effects", "joint_sets", "bridges", "calibration"});
+  s.law_where = r.at(t.contains("law") ? *t.get("law") : *calibration, path + (t.contains("law") ? ".law" : ".calibration"));
+  if (!calibration) return;
+  const std::string where = r.at(*calibration, path + ".calibration");
+  if (!calibration->is_string())
+    throw InputError(where + ": give the path of a calibrate or diagnose JSON file, e.g. calibration = \"fits/test09_cy.json\"");
+  const CalibratedJoint c = read_calibrated_joint(r.resolve(calibration->as_string()->get()), where);
+  merge_calibration(c, s.law, s.law_where, s.params, s.effects);
+  s.calibration = c.file;
+}
+
+}  // namespace
+
+JointSpec CaseReader::joint(const toml::table& t, const std::string& replacement) const {
   const Reader r{file_, base_dir_};
   JointSpec s;
   s.name = r.str(t, "name", "joints");
   const std::string path = "joints." + s.name;
-  s.law = r.str(t, "law", path);
   const auto* between = r.array(t, "between");
   // Rock-mass edges: joint_sets and bridges (then 'between' defaults to any groups).
   if (const auto* sets = r.array(t, "joint_sets")) {
@@ -550,10 +579,29 @@ JointSpec CaseReader::joint(const toml::table& t) const {
   if ((!between && !by_edge) || (between && between->size() != 2))
     throw InputError(r.at_table(t, path) + ": 'between' must name two block groups, e.g. between = [\"rock\", \"rock\"]"
                      " (or give joint_sets = [...] and/or bridges = true for rock-mass joints)");
-  s.effects = read_effects(r, t, path);
-  s.params = raw_values(t, r.file, path, {"name", "law", "between", "effects", "joint_sets", "bridges"});
-  s.law_where = r.at(*t.get("law"), path + ".law");
   if (between) s.between = {r.str(*between->get(0), path + ".between"), r.str(*between->get(1), path + ".between")};
+  if (replacement.empty()) {
+    read_joint_law(r, t, path, s);
+    return s;
+  }
+  // rockdem run --joint NAME=FILE: the entry keeps where it acts; what the joint is comes from
+  // FILE, a calibrate/diagnose JSON or a TOML table with the keys of a [[joints]] entry.
+  const std::string where = "--joint " + s.name + "=" + replacement;
+  if (fs::path(replacement).extension() == ".json") {
+    s.law.clear();
+    s.law_where = where;
+    const CalibratedJoint c = read_calibrated_joint(replacement, where);
+    merge_calibration(c, s.law, s.law_where, s.params, s.effects);
+    s.calibration = c.file;
+    return s;
+  }
+  const toml::table other = parse_toml_file(replacement, "joint file (" + where + ")");
+  const Reader ro{replacement, fs::path(replacement).parent_path().string()};
+  for (const char* key : {"name", "between", "joint_sets", "bridges"})
+    if (other.contains(key))
+      throw InputError(ro.at(*other.get(key), key) + ": a joint file gives what the joint is (law, parameters, effects, "
+                       "calibration); where it acts ('" + std::string(key) + "') stays as in " + file_ + " [" + path + "]");
+  read_joint_law(ro, other, path, s);
   return s;
 }
 
@@ -641,7 +689,7 @@ StageInput CaseReader::stage(const toml::table& t) const {
   s.name = r.str(t, "name", "stages");
   const std::string path = "stages." + s.name;
   r.check_keys(t, path, {"name", "damping", "local_damping", "damping_ratio", "damping_frequency", "rayleigh_terms", "until", "duration",
-                         "steps", "ratio", "block_ratio", "max_steps", "joints", "excavate", "relax_steps",
+                         "steps", "ratio", "block_ratio", "max_steps", "at_max_steps", "joints", "excavate", "relax_steps",
                          "mass_scaling_dt", "mass_scaling", "motion", "motion_scale", "pga", "pgv"});
   if (const auto* jn = t.get("joints")) in.joint_changes = read_joint_changes(r, *jn, path);
   s.damping = read_damping(r, t, path);

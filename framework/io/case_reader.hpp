@@ -28,7 +28,9 @@ class CaseReader {
   ModelSettingsSpec model_settings(const toml::table& t) const;  // [model]
   TimeSpec time(const toml::table& t) const;                     // [time]
   MaterialSpec material(const toml::table& t) const;             // [[materials]]
-  JointSpec joint(const toml::table& t) const;                   // [[joints]]
+  // [[joints]]; `replacement` (rockdem run --joint NAME=FILE): the law, parameters and effects
+  // come from FILE (a TOML table of those keys, or a calibrate/diagnose JSON) instead of `t`.
+  JointSpec joint(const toml::table& t, const std::string& replacement = "") const;
   BlockSpec block(const toml::table& t) const;                   // [[blocks]]
   InSituSpec in_situ(const toml::table& t) const;                // [in_situ]
   MotionSpec motion(const toml::table& t) const;                 // [[motions]] (motion_reader.cpp)

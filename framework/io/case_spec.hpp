@@ -58,6 +58,7 @@ struct JointSpec {
   RawValues params;
   std::vector<EffectSpec> effects;
   std::string law_where;
+  std::string calibration;  // the calibrate/diagnose JSON the law, parameters and effects came from
 };
 
 // [[blocks]]: a rigid block or a meshed deformable one.
@@ -133,6 +134,7 @@ struct StageInput {
   // stage (a factor, or a target peak of the first motion, the others keeping their ratio to it).
   std::vector<std::string> motions, motion_wheres;
   seismic::MotionScaling motion_scaling;
+  std::string motion_scaling_where;  // the motion_scale, pga or pgv key ("" when none)
   // Block or group names the stage excavates, with where each was written.
   std::vector<std::string> excavate, excavate_wheres;
 };

@@ -4,9 +4,11 @@
 #include <cmath>
 #include <filesystem>
 #include <sstream>
+#include <vector>
 
 #include "framework/core/error.hpp"
 #include "framework/core/names.hpp"
+#include "framework/core/units.hpp"
 #include "framework/io/case_builder.hpp"
 #include "framework/plugin_api/rock_material.hpp"
 
@@ -109,6 +111,31 @@ void CaseBuilder::resolve_motions(const StageInput& s, StageSpec& stage) const {
   // A target peak scales the first motion to it; the others keep their ratio to the first.
   const double f = c_.motions[static_cast<std::size_t>(stage.motions.front().index)]->factor_for(s.motion_scaling);
   for (auto& m : stage.motions) m.factor = f;
+  // A scaling that leaves the Earth's ground motions behind is a slip of a unit or a digit (pgv =
+  // "50 m/s", motion_scale = 100), not a study: refused before a run that would only crush the
+  // model. The largest recorded peaks are about 4 g, 3-4 m/s and 10 m (the 2008 Iwate-Miyagi
+  // PGA; Chi-Chi 1999 TCU068's PGV and PGD); the limits sit above them.
+  constexpr double kMaxPga = 5.0 * 9.80665, kMaxPgv = 5.0, kMaxPgd = 15.0;
+  for (const auto& m : stage.motions) {
+    const seismic::InputMotion& mo = *c_.motions[static_cast<std::size_t>(m.index)];
+    double pgd = 0.0;
+    for (double d : mo.disp) pgd = std::max(pgd, std::abs(d));
+    const double pga = m.factor * mo.pga(), pgv = m.factor * mo.pgv();
+    pgd *= m.factor;
+    std::vector<std::string> over;
+    if (pgv > kMaxPgv) over.push_back("PGV " + format_quantity(pgv, Dimension::velocity) + " (more than 5 m/s)");
+    if (pga > kMaxPga) over.push_back("PGA " + format_quantity(pga / 9.80665, Dimension::dimensionless) + " g (more than 5 g)");
+    if (pgd > kMaxPgd) over.push_back("peak displacement " + format_quantity(pgd, Dimension::length) + " (more than 15 m)");
+    if (over.empty()) continue;
+    std::string what = over.front();
+    for (std::size_t i = 1; i < over.size(); ++i) what += (i + 1 == over.size() ? " and " : ", ") + over[i];
+    const std::string where = !s.motion_scaling_where.empty() ? s.motion_scaling_where : s.motion_wheres.front();
+    throw InputError(where + ": stage '" + stage.name + "' would play motion '" + mo.name + "' at " + what +
+                     ", beyond any recorded earthquake (the largest: about 4 g, 3-4 m/s, 10 m); the motion as read has PGA " +
+                     format_quantity(mo.pga() / 9.80665, Dimension::dimensionless) + " g and PGV " + format_quantity(mo.pgv(), Dimension::velocity) +
+                     ", scaled by " + format_quantity(m.factor, Dimension::dimensionless) +
+                     ". Check the unit of the record ([[motions]] unit) and the target (e.g. pgv = \"0.5 m/s\", pga = \"0.3 g\")");
+  }
 }
 
 void CaseBuilder::check_stage_motions() {

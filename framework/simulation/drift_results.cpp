@@ -102,7 +102,7 @@ std::pair<double, double> DriftResults::since_reference(const Contact& c) const 
 std::vector<std::string> DriftResults::columns() const {
   std::vector<std::string> cols{"fallen_area_m2", "fallen_blocks", "frame_rotation_rad", "frame_x_m", "frame_y_m",
                                 "horizontal_convergence_m", "k_xx_m2", "k_xx_ratio", "k_xy_m2", "k_yy_m2", "k_yy_ratio",
-                                "loosened_contacts", "loosened_extent_m", "max_slip_near_m", "vertical_convergence_m"};
+                                "loosened_contacts", "loosened_extent_m", "max_slip_near_m", "unbalanced_ratio", "vertical_convergence_m"};
   for (const char* w : kWallNames) cols.push_back(std::string(w) + "_inward_m");
   for (const std::string& s : sets_)
     for (const char* f : {"max_slip_", "max_slip_near_", "mean_slip_near_", "max_opening_near_"}) cols.push_back(f + s + "_m");
@@ -150,7 +150,7 @@ void DriftResults::take_reference(const Model& m) {
   ref_.taken = true;
 }
 
-void DriftResults::stage_ended(const Model& m, std::size_t index) {
+void DriftResults::stage_ended(const Model& m, std::size_t index, double ratio) {
   const DriftSpec& d = c_.drift;
   if (index < d.reference_stage) return;
   if (index == d.reference_stage) {
@@ -166,6 +166,7 @@ void DriftResults::stage_ended(const Model& m, std::size_t index) {
   row.kind = index == d.reference_stage ? "reference" : !st.motions.empty() ? "event" : "rest";
   row.time = m.time;
   auto& v = row.values;
+  v["unbalanced_ratio"] = ratio;
 
   // Joints: slip and opening since the reference, per set, near the drift and everywhere.
   const double near_area = std::numbers::pi * ((radius_ + d.near) * (radius_ + d.near) - radius_ * radius_);
@@ -290,6 +291,9 @@ void DriftResults::stage_ended(const Model& m, std::size_t index) {
     if (!ref_.wall_found[k]) continue;
     const auto it = position.find(ref_.wall_block[k]);
     if (it == position.end()) continue;
+    // A wall point on a block that has fallen is no longer the drift's wall: its metres of fall
+    // are in fallen_blocks, not convergence.
+    if (std::any_of(fallen_.begin(), fallen_.end(), [&](const Fallen& f) { return f.id == ref_.wall_block[k]; })) continue;
     const Block& b = m.blocks[static_cast<std::size_t>(it->second)];
     const Vec2 x = m.gp[static_cast<std::size_t>(b.first_gp + static_cast<int>(ref_.wall_local[k]))].x;
     const Vec2 du = back(x) - ref_.wall_x[k];

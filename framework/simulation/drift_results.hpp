@@ -25,9 +25,10 @@ class DriftResults {
  public:
   DriftResults(const Case& c, std::filesystem::path out);
 
-  // The stage `index` has ended with the model's state in `m`: write its results (from the
-  // reference stage on; earlier stages are ignored).
-  void stage_ended(const Model& m, std::size_t index);
+  // The stage `index` has ended with the model's state in `m` and the engine's unbalanced-force
+  // ratio `ratio` (a rest stage that ended at max_steps shows it above its target): write its
+  // results (from the reference stage on; earlier stages are ignored).
+  void stage_ended(const Model& m, std::size_t index, double ratio);
 
   // What a stage checkpoint carries: the reference state and the blocks found fallen so far.
   CheckpointArrays saved_state() const;

@@ -277,7 +277,7 @@ void write_stage_checkpoint(Run& r, std::size_t index) {
   with_whole_model(r, [&] {
     CheckpointArrays arrays = condition_states(r.engine);
     if (r.drift) {
-      r.drift->stage_ended(r.c.model, index);
+      r.drift->stage_ended(r.c.model, index, r.engine.unbalanced_ratio());
       arrays.merge(r.drift->saved_state());
     }
     write_checkpoint(r.c.model, (r.out / ("stage_" + std::to_string(index + 1) + "_" + st.name + ".h5")).string(),
@@ -318,6 +318,10 @@ void run_stage(Run& r, const StageJointModels& joints, std::size_t index) {
     // Every process stops at the same step (a signal may reach them a little apart).
     const int sig = r.c.model.part.decomposed() ? static_cast<int>(r.comm.max(interrupt_signal().load())) : interrupt_signal().load();
     if (sig) throw Interrupted(sig, "");
+  }
+  if (!stage.unconverged().empty() && r.comm.root()) {
+    r.progress.end_line();
+    std::cerr << "rockdem: warning: " << stage.unconverged() << "\n";
   }
   r.rec.sample();
   write_vtk(r);

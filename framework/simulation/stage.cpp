@@ -51,8 +51,13 @@ bool StageRunner::done(long n) const {
         if (st_.block_ratio > 0.0 && !blocks_ok)
           why += "; block '" + e_.model().blocks[static_cast<std::size_t>(e_.worst_block())].name + "' has its own ratio " +
                  std::to_string(e_.block_unbalanced_ratio()) + " > block_ratio " + std::to_string(st_.block_ratio);
+        if (st_.continue_at_max_steps) {
+          unconverged_ = "stage '" + st_.name + "' ended at max_steps = " + std::to_string(st_.max_steps) +
+                         " without equilibrium (" + why + "); at_max_steps = \"continue\": the run goes on";
+          return true;
+        }
         throw InstabilityError("stage '" + st_.name + "' did not reach equilibrium (" + why + ") within max_steps = " +
-                               std::to_string(st_.max_steps));
+                               std::to_string(st_.max_steps) + " (at_max_steps = \"continue\" ends the stage there and goes on)");
       }
       return converged;
     }

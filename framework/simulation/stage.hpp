@@ -39,12 +39,16 @@ class StageRunner {
   // Wall-clock seconds the stage still needs at `rate` steps/s after `n` steps; NaN when unknown
   // (`equilibrium`).
   double seconds_left(long n, double rate) const;
+  // After done() returned true: "" when the stage met its end condition, else why an
+  // `equilibrium` stage with at_max_steps = "continue" ended at max_steps (for a warning).
+  const std::string& unconverged() const { return unconverged_; }
 
  private:
   const StageSpec& st_;
   const Engine& e_;
   double duration_ = 0.0;  // [s], for `duration`
   long planned_ = 0;
+  mutable std::string unconverged_;
 };
 
 }  // namespace rockdem

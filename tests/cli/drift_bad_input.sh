@@ -1,0 +1,36 @@
+#!/usr/bin/env bash
+# Bad input to a drift study (cases/drift/small.toml, issue 14): an earthquake scaled beyond any
+# recorded one (a PGV or a motion_scale that is a slip of a unit or a digit), an event that names
+# no motion, a joint calibrated for another law: each stops before running (exit 2) with a message
+# that names the key and says what to change.
+# Usage: bash drift_bad_input.sh <rockdem-binary> <source-dir>
+set -u
+bin=$1
+src=$(cd "$2" && pwd)
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+fail=0
+. "$src/tests/cli/lib/expect.sh"
+# The study with its record found from anywhere.
+sed "s|file = \"../data/|file = \"$src/cases/data/|" "$src/cases/drift/small.toml" > "$tmp/study.toml"
+variant() {  # variant NAME SED-EXPRESSION: a copy of the study with one change
+  sed "$2" "$tmp/study.toml" > "$tmp/$1.toml"
+  cmp -s "$tmp/study.toml" "$tmp/$1.toml" && { echo "FAIL variant $1 changed nothing"; fail=1; }
+}
+variant pgv '0,/^pgv = "0.5 m\/s"/s//pgv = "50 m\/s"/'
+expect "PGV 50 m/s" 2 run "$tmp/pgv.toml" --out "$tmp/o1" -- \
+  "pgv.toml:181 key 'stages.event_1.pgv'" "PGV 50 m/s (more than 5 m/s)" "beyond any recorded earthquake" "Check the unit"
+variant scale '0,/^pgv = "0.5 m\/s"/s//motion_scale = 100/'
+expect "motion_scale 100" 2 run "$tmp/scale.toml" --out "$tmp/o2" -- \
+  "key 'stages.event_1.motion_scale'" "PGA 34.9" "scaled by 100"
+variant empty '0,/^motion = "elcentro"/s//motion = []/'
+expect "an event with no motion" 2 run "$tmp/empty.toml" --out "$tmp/o4" -- \
+  "key 'stages.event_1.motion': name at least one [[motions]] entry"
+printf '{"law": "barton_bandis", "status": "converged", "params": {"jrc": 7.0}}\n' > "$tmp/bb.json"
+variant calib "s|^law = \"coulomb_slip\"\njoint_sets = \[\"steep_1\"|&|; 0,/^name = \"joints\"/s||name = \"joints\"\ncalibration = \"$tmp/bb.json\"|"
+expect "a calibration for another law than the joint set's" 2 run "$tmp/calib.toml" --out "$tmp/o5" -- \
+  "key 'joints.joints.law': law 'coulomb_slip' but the calibration" "is of a barton_bandis joint" "remove 'law'"
+for d in o1 o2 o4 o5; do
+  [ -e "$tmp/$d/history.h5" ] && { echo "FAIL $d: a refused case started running"; fail=1; }
+done
+exit $fail
