@@ -445,6 +445,7 @@ void Engine::step() {
   double speed = std::sqrt(speed2);
   if (comm_.size() > 1) speed = -comm_.min(-speed);
   travel_since_refresh_ += speed * dt_;
+  max_speed_ = speed;
   comm_.forward(m_);
   energy_.after_step(m_, EnergyMasses{inertial_mass_, block_mass_, block_inertia_}, dt_, beta);
   if (comm_.size() > 1 && energy_.tracking()) sum_energy();

@@ -64,6 +64,9 @@ class Engine {
   double stage_time() const { return stage_time_; }
   const std::string& stage() const { return stage_; }
   // Unbalanced-force ratio: sum of |net force| over sum of |applied and contact forces|.
+  // The largest gridpoint speed of the last step [m/s]: far above the ground motion's and free
+  // fall's in a dynamic stage, it shows a numerical problem the runaway limit does not catch.
+  double max_speed() const { return max_speed_; }
   double unbalanced_ratio() const { return ratio_; }
   // The largest unbalanced-force ratio of a single free rigid block (its net force over the sum of
   // the magnitudes of the forces on it, translation only) in the last step, and that block.
@@ -141,6 +144,7 @@ class Engine {
   // largest speed times dt): contacts are refreshed before two points could close the detection
   // tolerance between them (a Verlet-style skin), not only every refresh_interval steps.
   double travel_since_refresh_ = 0.0;
+  double max_speed_ = 0.0;  // the largest gridpoint speed of the last step, over every process [m/s]
 };
 
 }  // namespace rockdem

@@ -59,6 +59,9 @@ const HistoryQuantityRegistrar unbalanced_ratio_q{HistoryQuantity{
 const HistoryQuantityRegistrar block_unbalanced_ratio_q{HistoryQuantity{
     "block_unbalanced_ratio", "", "largest unbalanced-force ratio of a single free rigid block", false, false, false, {},
     Reduction::global, [](const Model&, const Engine& e, const HistoryTarget&) { return e.block_unbalanced_ratio(); }}};
+const HistoryQuantityRegistrar max_speed_q{HistoryQuantity{
+    "max_speed", "m/s", "largest gridpoint speed in the model (a check: far above the input's and free fall's, it is numerical)",
+    false, false, false, {}, Reduction::global, [](const Model&, const Engine& e, const HistoryTarget&) { return e.max_speed(); }}};
 const HistoryQuantityRegistrar kinetic_energy_q{HistoryQuantity{
     "kinetic_energy", "J/m", "kinetic energy of the model", false, false, false, {}, Reduction::global,
     [](const Model&, const Engine& e, const HistoryTarget&) { return e.kinetic_energy(); }}};
