@@ -121,7 +121,7 @@ def main():
         rows = read_events(ev)
         if status != "finished":
             problems.append(f"{label(v)}: the run ended '{status}' after stage '{rows[-1]['name']}' "
-                            f"(see {run}/run.log); its rows stop there")
+                            f"(see {os.path.join(out, 'logs', v + '.log')}); its rows stop there")
         speeds = stage_max_speeds(run)
         for r in rows:
             r["max_speed_m_s"] = speeds.get(r["stage"], math.nan)

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The drift comparison (scripts/drift-compare, docs/drift-study.md): the small drift study run
-# with each of the five joint models of cases/drift/laws/. Checks:
+# with each of the four joint models of its default set (cases/drift/laws/). Checks:
 #  - every run finishes and the report is written (index.html naming each model, its figures,
 #    summary.csv with one row per model and stage from the excavation on);
 #  - each run used its joint file (named in its manifest, copied into joints/) and the models
@@ -20,8 +20,8 @@ bad() { echo "FAIL $1"; fail=1; }
 
 ROCKDEM_BIN=$bin "$src/scripts/drift-compare" --out "$tmp/c" > "$tmp/log" 2>&1
 rc=$?
-[ $rc -eq 0 ] && ok "scripts/drift-compare: exit 0, five runs" || { bad "scripts/drift-compare exited $rc"; cat "$tmp/log"; }
-for v in mohr_coulomb barton_bandis continuously_yielding continuously_yielding_reverse_wear continuously_yielding_recovery_wear; do
+[ $rc -eq 0 ] && ok "scripts/drift-compare: exit 0, four runs" || { bad "scripts/drift-compare exited $rc"; cat "$tmp/log"; }
+for v in mohr_coulomb barton_bandis continuously_yielding continuously_yielding_reverse_wear; do
   grep -q -- "--joint joints=$src/cases/drift/laws/$v.toml" "$tmp/c/$v/manifest.json" 2>/dev/null \
     && cmp -s "$src/cases/drift/laws/$v.toml" "$tmp/c/$v/joints/joints.toml" \
     && ok "$v: run with its joint file (manifest, joints/joints.toml)" || bad "$v: manifest or joints/ does not show its joint file"
@@ -35,14 +35,14 @@ def check(good, what):
     print(("ok   " if good else "FAIL ") + what)
     fail = fail or not good
 page = open(os.path.join(out, "index.html")).read()
-check(all(s in page for s in ("Mohr-Coulomb", "Barton-Bandis", "Continuously-Yielding", "CY + reverse-shear degradation",
-                              "CY + dilation recovery")), "index.html names the five joint models")
+check(all(s in page for s in ("Mohr-Coulomb", "Barton-Bandis", "Continuously-Yielding", "CY + reverse-shear degradation")),
+      "index.html names the four joint models")
 figs = ["events.png", "slip_by_set.png", "slip_maps.png"]
 check(all(os.path.getsize(os.path.join(out, "figures", f)) > 10000 for f in figs) and all(f in page for f in figs),
       "index.html shows its figures: " + ", ".join(figs))
 rows = list(csv.DictReader(open(os.path.join(out, "summary.csv"))))
 variants = sorted({r["variant"] for r in rows})
-check(len(rows) == 5 * 5 and len(variants) == 5, f"summary.csv: {len(rows)} rows, 5 stages for each of {len(variants)} models")
+check(len(rows) == 4 * 5 and len(variants) == 4, f"summary.csv: {len(rows)} rows, 5 stages for each of {len(variants)} models")
 last = {r["variant"]: r for r in rows if r["name"] == "rest_2"}
 slips = {v: float(last[v]["max_slip_near_m"]) for v in last}
 distinct = all(abs(slips[a] - slips[b]) > 1e-6 for a in slips for b in slips if a < b)

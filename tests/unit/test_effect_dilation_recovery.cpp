@@ -61,3 +61,24 @@ TEST(EffectDilationRecovery, ReturnPathFollowsTheShapeFunction) {
   const std::size_t half = row_at(f, 5.0, rev);
   EXPECT_NEAR(dilation(f, half), 0.25 * d_rev, 0.01 * d_rev);
 }
+
+// rate_bound = "climb": never back down faster than 2 (1 + h) times the steepest climb met on the
+// way out. Mohr-Coulomb (psi = 2.4 deg) with monotonic dilation and a residual of a half: on the
+// second return the dilation to give back, 1.5 tan(psi) 10 mm, is more than one stroke's climb,
+// so the path's own bound (2 (1 + h) d_r/u_r = 6 tan psi) is steeper than the climb's (4 tan psi).
+TEST(EffectDilationRecovery, ClimbBoundKeepsTheRecoveryNoSteeperThanTheWayOut) {
+  const double tan_psi = std::tan(2.4 * 3.14159265358979323846 / 180.0);
+  double steepest[2] = {0.0, 0.0};
+  for (int climb = 0; climb < 2; ++climb) {
+    auto m = model("mohr_coulomb", mc_report({{"dilation", "monotonic"}}),
+                   {effect("dilation_recovery", {{"residual_fraction", "0.5"}, {"rate_bound", climb ? "climb" : "path"}})});
+    ElementDriver d(*m);
+    const auto f = d.run({cnl(3e6, ShearPath::cycles(0.01, 2, 1e-4, true))});
+    for (std::size_t i = 1; i < f.rows.size(); ++i) {
+      const double du = f.rows[i].shear_disp_mm - f.rows[i - 1].shear_disp_mm;
+      if (du < -1e-9) steepest[climb] = std::max(steepest[climb], (dilation(f, i - 1) - dilation(f, i)) / -du);
+    }
+  }
+  EXPECT_LE(steepest[1], 4.0 * tan_psi * (1.0 + 1e-6)) << "climb bound";
+  EXPECT_GT(steepest[0], 4.0 * tan_psi * 1.05) << "the path bound allows a steeper return here (else this test proves nothing)";
+}
