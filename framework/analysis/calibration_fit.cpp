@@ -1,24 +1,12 @@
 #include "framework/analysis/calibration_fit.hpp"
 
+#include "framework/core/si_raw_value.hpp"
+
 #include <algorithm>
-#include <cstdio>
 #include <thread>
 
 namespace rockdem::calibration_detail {
 namespace {
-
-RawValue raw_of(double v, Dimension d) {
-  RawValue r;
-  if (d == Dimension::dimensionless) {
-    r.value = v;
-  } else {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%.17g %s", v, std::string(si_unit(d)).c_str());
-    r.value = std::string(buf);
-  }
-  r.where = "calibration";
-  return r;
-}
 
 // Residuals and Jacobian at the last point Ceres asked for, shared by the one-residual blocks
 // (one block per residual, so that the robust loss acts on each residual, not on their sum).
@@ -118,7 +106,7 @@ std::unique_ptr<JointModel> Evaluator::build(const std::vector<double>& v) const
     const Slot& s = slots_[i];
     if (std::isinf(v[i])) continue;  // only defaults are infinite: leave them out
     RawValues& target = s.effect < 0 ? law : effects[static_cast<std::size_t>(s.effect)].params;
-    target[s.info.name] = raw_of(v[i], s.info.dim);
+    target[s.info.name] = si_raw_value(v[i], s.info.dim, "calibration");
   }
   return make_joint_model(opt_.law, law, effects, "calibration");
 }

@@ -1,14 +1,13 @@
 #include "framework/io/calibration_file.hpp"
 
 #include <algorithm>
-#include <cstdio>
 #include <fstream>
 
 #include <nlohmann/json.hpp>
 
 #include "framework/core/error.hpp"
 #include "framework/core/names.hpp"
-#include "framework/core/units.hpp"
+#include "framework/core/si_raw_value.hpp"
 
 namespace rockdem {
 namespace {
@@ -26,8 +25,8 @@ std::string param_names(const std::vector<ParamInfo>& infos) {
   return join_names(names);
 }
 
-// One JSON value as the RawValue a case file would give: reals as "<SI value> <SI unit>" (the
-// shortest text that reads back to the same double), choices as names, booleans, integers.
+// One JSON value as the RawValue a case file would give: reals in SI (si_raw_value), choices as
+// names, booleans, integers.
 // Returns false for null (nlohmann writes an infinite default such as kn_max = inf as null: the
 // law's default stands).
 bool to_raw(const json& v, const ParamInfo& info, const std::string& where, RawValue& out) {
@@ -35,14 +34,7 @@ bool to_raw(const json& v, const ParamInfo& info, const std::string& where, RawV
   if (v.is_null()) return false;
   if (info.kind == "real") {
     if (!v.is_number()) throw InputError(where + ": '" + info.name + "' must be a number (SI units), not " + v.dump());
-    const double x = v.get<double>();
-    if (info.dim == Dimension::dimensionless) {
-      out.value = x;
-    } else {
-      char buf[64];
-      std::snprintf(buf, sizeof buf, "%.17g %s", x, std::string(si_unit(info.dim)).c_str());
-      out.value = std::string(buf);
-    }
+    out = si_raw_value(v.get<double>(), info.dim, where);
   } else if (info.kind == "choice") {
     if (!v.is_string()) throw InputError(where + ": '" + info.name + "' must be one of " + info.range_text() + ", not " + v.dump());
     out.value = v.get<std::string>();

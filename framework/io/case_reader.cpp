@@ -541,6 +541,13 @@ MaterialSpec CaseReader::material(const toml::table& t) const {
 
 namespace {
 
+// The joint fitted in a calibrate/diagnose JSON, with the entry's own values set over it.
+void apply_calibration(const std::string& file, const std::string& where, JointSpec& s) {
+  const CalibratedJoint c = read_calibrated_joint(file, where);
+  merge_calibration(c, s.law, s.law_where, s.params, s.effects);
+  s.calibration = c.file;
+}
+
 // What a joint is (law, calibration, effects, parameters) from table `t`, read with `r` (the
 // case file, or the file that replaces the entry: `rockdem run --joint NAME=FILE`).
 void read_joint_law(const Reader& r, const toml::table& t, const std::string& path, JointSpec& s) {
@@ -555,9 +562,7 @@ void read_joint_law(const Reader& r, const toml::table& t, const std::string& pa
   const std::string where = r.at(*calibration, path + ".calibration");
   if (!calibration->is_string())
     throw InputError(where + ": give the path of a calibrate or diagnose JSON file, e.g. calibration = \"fits/test09_cy.json\"");
-  const CalibratedJoint c = read_calibrated_joint(r.resolve(calibration->as_string()->get()), where);
-  merge_calibration(c, s.law, s.law_where, s.params, s.effects);
-  s.calibration = c.file;
+  apply_calibration(r.resolve(calibration->as_string()->get()), where, s);
 }
 
 }  // namespace
@@ -588,11 +593,8 @@ JointSpec CaseReader::joint(const toml::table& t, const std::string& replacement
   // FILE, a calibrate/diagnose JSON or a TOML table with the keys of a [[joints]] entry.
   const std::string where = "--joint " + s.name + "=" + replacement;
   if (fs::path(replacement).extension() == ".json") {
-    s.law.clear();
     s.law_where = where;
-    const CalibratedJoint c = read_calibrated_joint(replacement, where);
-    merge_calibration(c, s.law, s.law_where, s.params, s.effects);
-    s.calibration = c.file;
+    apply_calibration(replacement, where, s);
     return s;
   }
   const toml::table other = parse_toml_file(replacement, "joint file (" + where + ")");

@@ -118,10 +118,7 @@ void CaseBuilder::resolve_motions(const StageInput& s, StageSpec& stage) const {
   constexpr double kMaxPga = 5.0 * 9.80665, kMaxPgv = 5.0, kMaxPgd = 15.0;
   for (const auto& m : stage.motions) {
     const seismic::InputMotion& mo = *c_.motions[static_cast<std::size_t>(m.index)];
-    double pgd = 0.0;
-    for (double d : mo.disp) pgd = std::max(pgd, std::abs(d));
-    const double pga = m.factor * mo.pga(), pgv = m.factor * mo.pgv();
-    pgd *= m.factor;
+    const double pga = m.factor * mo.pga(), pgv = m.factor * mo.pgv(), pgd = m.factor * mo.pgd();
     std::vector<std::string> over;
     if (pgv > kMaxPgv) over.push_back("PGV " + format_quantity(pgv, Dimension::velocity) + " (more than 5 m/s)");
     if (pga > kMaxPga) over.push_back("PGA " + format_quantity(pga / 9.80665, Dimension::dimensionless) + " g (more than 5 g)");

@@ -63,10 +63,10 @@ class Engine {
   double added_mass_fraction() const { return physical_mass_ > 0.0 ? scaled_mass_ / physical_mass_ - 1.0 : 0.0; }
   double stage_time() const { return stage_time_; }
   const std::string& stage() const { return stage_; }
-  // Unbalanced-force ratio: sum of |net force| over sum of |applied and contact forces|.
   // The largest gridpoint speed of the last step [m/s]: far above the ground motion's and free
   // fall's in a dynamic stage, it shows a numerical problem the runaway limit does not catch.
   double max_speed() const { return max_speed_; }
+  // Unbalanced-force ratio: sum of |net force| over sum of |applied and contact forces|.
   double unbalanced_ratio() const { return ratio_; }
   // The largest unbalanced-force ratio of a single free rigid block (its net force over the sum of
   // the magnitudes of the forces on it, translation only) in the last step, and that block.

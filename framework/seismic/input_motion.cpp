@@ -47,6 +47,7 @@ double InputMotion::displacement(double t) const {
 
 double InputMotion::pga() const { return peak_abs(acc); }
 double InputMotion::pgv() const { return peak_abs(vel); }
+double InputMotion::pgd() const { return peak_abs(disp); }
 
 double InputMotion::factor_for(const MotionScaling& s) const {
   auto to = [&](double peak, const char* what) {

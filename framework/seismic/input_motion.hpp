@@ -51,6 +51,7 @@ struct InputMotion {
   double displacement(double t) const;  // holds the last value after the end
   double pga() const;
   double pgv() const;
+  double pgd() const;  // peak displacement [m]
   // The factor that brings this motion to a scaling's target (1 for none).
   double factor_for(const MotionScaling& s) const;
 

@@ -150,6 +150,10 @@ void DriftResults::take_reference(const Model& m) {
   ref_.taken = true;
 }
 
+bool DriftResults::has_fallen(BlockId id) const {
+  return std::any_of(fallen_.begin(), fallen_.end(), [&](const Fallen& f) { return f.id == id; });
+}
+
 void DriftResults::stage_ended(const Model& m, std::size_t index, double ratio) {
   const DriftSpec& d = c_.drift;
   if (index < d.reference_stage) return;
@@ -268,7 +272,7 @@ void DriftResults::stage_ended(const Model& m, std::size_t index, double ratio) 
   // Blocks that moved towards the drift by more than fall_displacement since the reference.
   for (std::size_t i = 0; i < m.blocks.size(); ++i) {
     const Block& b = m.blocks[i];
-    if (std::any_of(fallen_.begin(), fallen_.end(), [&](const Fallen& f) { return f.id == b.id; })) continue;
+    if (has_fallen(b.id)) continue;
     const auto r = ref_.centroids.find(b.id);
     if (r == ref_.centroids.end()) continue;
     const Vec2 xc = centroid[i];
@@ -293,7 +297,7 @@ void DriftResults::stage_ended(const Model& m, std::size_t index, double ratio) 
     if (it == position.end()) continue;
     // A wall point on a block that has fallen is no longer the drift's wall: its metres of fall
     // are in fallen_blocks, not convergence.
-    if (std::any_of(fallen_.begin(), fallen_.end(), [&](const Fallen& f) { return f.id == ref_.wall_block[k]; })) continue;
+    if (has_fallen(ref_.wall_block[k])) continue;
     const Block& b = m.blocks[static_cast<std::size_t>(it->second)];
     const Vec2 x = m.gp[static_cast<std::size_t>(b.first_gp + static_cast<int>(ref_.wall_local[k]))].x;
     const Vec2 du = back(x) - ref_.wall_x[k];

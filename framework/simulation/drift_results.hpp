@@ -45,6 +45,7 @@ class DriftResults {
   const std::vector<Row>& rows() const { return rows_; }
 
  private:
+  bool has_fallen(BlockId id) const;  // found fallen in a stage so far
   struct Reference {
     std::map<ContactKey, std::pair<double, double>> contacts;  // u_s, u_n at the reference
     std::map<BlockId, Vec2> centroids;                          // block centroids at the reference
