@@ -113,8 +113,12 @@ Projection project_rounded(const Model& m, const Block& b, const Vec2& p, int i,
       pr.dist = dv.norm();
       pr.normal = dv / std::max(pr.dist, 1e-300);
     } else {
+      // Beyond the end of the edge, the nearest point of the edge is the vertex: the distance is
+      // |p - v| whatever the normal. Its projection on the normal alone would read a point metres
+      // away along the edge's line as close (and, behind the line, as metres deep): a block's
+      // point 3 m from the inner face of a C-shaped far-field block was taken as 3.2 m inside it.
       pr.normal = (nrm + other).normalized();
-      pr.dist = dv.dot(pr.normal);
+      pr.dist = std::copysign(dv.norm(), dv.dot(pr.normal));
     }
   } else {
     pr.normal = nrm;
@@ -246,17 +250,17 @@ void corner_to_corner(const Model& m, const Block& a, int k, double d, Projectio
   pr.dist = jn - r - pr.radius;
 }
 
-// Part of segment ab whose distance from the line through p (normal n) is at most w, projected on
-// the tangent t: returns false if empty.
-bool band_interval(const Vec2& a, const Vec2& b, const Vec2& p, const Vec2& n, const Vec2& t, double w,
+// Part of segment ab whose height above the line through p (normal n) lies in [h0, h1], projected
+// on the tangent t: returns false if empty.
+bool band_interval(const Vec2& a, const Vec2& b, const Vec2& p, const Vec2& n, const Vec2& t, double h0, double h1,
                    double& lo, double& hi) {
   const double ha = (a - p).dot(n), hb = (b - p).dot(n);
   double s0 = 0.0, s1 = 1.0;
   const double dh = hb - ha;
   if (std::abs(dh) < 1e-300) {
-    if (std::abs(ha) > w) return false;
+    if (ha < h0 || ha > h1) return false;
   } else {
-    double sa = (-w - ha) / dh, sb = (w - ha) / dh;
+    double sa = (h0 - ha) / dh, sb = (h1 - ha) / dh;
     if (sa > sb) std::swap(sa, sb);
     s0 = std::max(s0, sa);
     s1 = std::min(s1, sb);
@@ -447,10 +451,15 @@ void update_contact_lengths(Model& m, const DetectionSettings& s) {
     const Vec2& p = m.gp[c.point].x;
     const Vec2& prev = m.gp[A.boundary[(local - 1 + na) % na]].x;
     const Vec2& next = m.gp[A.boundary[(local + 1) % na]].x;
+    // The band reaches from the point to the other block's surface (height `overlap` along the
+    // normal) and the tolerance w beyond both: a point pressed deeper than w still meets the
+    // surface it is pressed into and keeps a length (with a band of +-w about the point alone, a
+    // corner 30 mm deep had length 0, carried no force and sank further).
+    const double bl = std::min(0.0, c.overlap) - w, bh = std::max(0.0, c.overlap) + w;
     double lo = 0.0, hi = 0.0, l1, h1;
     bool any = false;
-    if (band_interval(0.5 * (prev + p), p, p, c.normal, t, w, l1, h1)) { lo = l1; hi = h1; any = true; }
-    if (band_interval(p, 0.5 * (p + next), p, c.normal, t, w, l1, h1)) {
+    if (band_interval(0.5 * (prev + p), p, p, c.normal, t, bl, bh, l1, h1)) { lo = l1; hi = h1; any = true; }
+    if (band_interval(p, 0.5 * (p + next), p, c.normal, t, bl, bh, l1, h1)) {
       lo = any ? std::min(lo, l1) : l1;
       hi = any ? std::max(hi, h1) : h1;
       any = true;
@@ -464,7 +473,7 @@ void update_contact_lengths(Model& m, const DetectionSettings& s) {
       for (int k = 0; k < nb; ++k) {
         const Vec2& ea = m.gp[B.boundary[e]].x;
         const Vec2& eb = m.gp[B.boundary[(e + 1) % nb]].x;
-        if (!band_interval(ea, eb, p, c.normal, t, w, l1, h1)) break;
+        if (!band_interval(ea, eb, p, c.normal, t, bl, bh, l1, h1)) break;
         olo = oany ? std::min(olo, l1) : l1;
         ohi = oany ? std::max(ohi, h1) : h1;
         oany = true;

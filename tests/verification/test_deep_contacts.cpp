@@ -1,0 +1,166 @@
+// Contact geometry where a block is not convex or a point is pressed deeper than the detection
+// tolerance, the two ways the small drift study's second earthquake went wrong (issue 14):
+//  - a point in the opening of a C-shaped block (the far field of a drift model is two of them)
+//    is as far from it as its nearest face, not the distance to the line through the block's
+//    back edge: it used to be taken as metres inside the block and kept as a touching contact;
+//  - a point inside an L-shaped block near its concave corner is as deep as the distance to the
+//    nearest face;
+//  - a corner pressed into a face deeper than the tolerance still has a contact length (and so a
+//    force): it used to get length 0, carry nothing and sink further. A diamond standing on its
+//    tip on a soft joint, whose equilibrium penetration (about 4 mm) is twice the detection
+//    distance, comes to rest on it (5.9 mm down) with the reaction equal to its weight.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+#include <string>
+#include <vector>
+#include <unistd.h>
+#include <iostream>
+
+#include "framework/contact/detection.hpp"
+#include "framework/io/case.hpp"
+#include "framework/simulation/run_case.hpp"
+
+using namespace rockdem;
+
+namespace {
+
+std::string header(const std::string& kn = "10 GPa/m") {
+  return "title = \"deep contacts\"\n[model]\nrounding = \"1 mm\"\ndetection_tolerance = \"1 mm\"\n"
+         "gravity = [\"0 m/s2\", \"-9.81 m/s2\"]\n"
+         "[[joints]]\nname = \"j\"\nlaw = \"coulomb_slip\"\nbetween = [\"*\", \"*\"]\nkn = \"" +
+         kn + "\"\nks = \"" + kn + "\"\nfriction = \"30 deg\"\n";
+}
+
+std::string polygon_block(const std::string& name, const std::vector<Vec2>& pts) {
+  std::ostringstream os;
+  os.precision(17);
+  os << "[[blocks]]\nname = \"" << name << "\"\ntype = \"rigid\"\ndensity = \"2650 kg/m3\"\npolygon = [";
+  for (std::size_t i = 0; i < pts.size(); ++i)
+    os << (i ? ", " : "") << "[\"" << pts[i].x() << " m\", \"" << pts[i].y() << " m\"]";
+  os << "]\n";
+  return os.str();
+}
+
+// Every case needs a stage; these checks call detection directly.
+const std::string kStage = "[[stages]]\nname = \"s\"\nuntil = \"steps\"\nsteps = 1\n";
+
+// Blocks may not overlap in a case file: a block is pushed into another by moving its points.
+void translate(Case& c, const std::string& name, const Vec2& by) {
+  const Block& b = c.model.blocks[static_cast<std::size_t>(c.block_index(name, "test"))];
+  for (int i = b.first_gp; i < b.first_gp + b.n_gp; ++i) c.model.gp[static_cast<std::size_t>(i)].x += by;
+}
+
+std::string square(const std::string& name, double x0, double y0, double w) {
+  return polygon_block(name, {{x0, y0}, {x0 + w, y0}, {x0 + w, y0 + w}, {x0, y0 + w}});
+}
+
+// Contacts of points of block `a` on block `b` after a detection pass.
+std::vector<Contact> contacts_on(Case& c, const std::string& a, const std::string& b) {
+  detect_contacts(c.model, c.settings.detection);
+  const BlockId ia = c.model.blocks[static_cast<std::size_t>(c.block_index(a, "test"))].id;
+  const BlockId ib = c.model.blocks[static_cast<std::size_t>(c.block_index(b, "test"))].id;
+  std::vector<Contact> out;
+  for (const Contact& k : c.model.contacts.items)
+    if (k.key.point_block == ia && k.key.other_block == ib) out.push_back(k);
+  return out;
+}
+
+// A C-shaped block open to the left, its back edges on the line x = 0 subdivided (flat vertices,
+// as a deformable block's gridpoints or a rock-mass cut make them), and a 0.5 m square in the
+// opening 0.3 m from that line and 1.2 m from the inner face.
+std::vector<Vec2> c_shape() {
+  return {{0, -3}, {3, -3}, {3, 3}, {0, 3}, {0, 2.5}, {0, 2}, {2, 2}, {2, -2}, {0, -2}, {0, -2.5}};
+}
+
+}  // namespace
+
+TEST(DeepContacts, NoContactAcrossTheOpeningOfAConcaveBlock) {
+  Case c = load_case_text(header() + polygon_block("c", c_shape()) + square("inside", 0.3, -0.25, 0.5) + kStage, "c_shape", ".");
+  const auto found = contacts_on(c, "inside", "c");
+  for (const Contact& k : found)
+    ADD_FAILURE() << "point " << k.key.point_local << " of the inner square at (" << c.model.gp[k.point].x.transpose()
+                  << ") in contact with the C-shaped block, overlap " << k.overlap << " m";
+  EXPECT_TRUE(found.empty());
+  EXPECT_TRUE(contacts_on(c, "c", "inside").empty());
+}
+
+TEST(DeepContacts, PointsInsideAnLShapedBlockAreAsDeepAsTheirDistanceToItsBoundary) {
+  // An L-shaped block (concave corner at (1, 1)) and a 0.3 m square pushed into it at (0.98, 0.95):
+  // its lower-left corner is nearest to the concave vertex itself (sqrt(20^2 + 50^2) = 53.9 mm
+  // deep; a projection on the corner's mean normal alone reads 49.5 mm), the lower-right one 50 mm
+  // below the top of the L's lower arm, the upper-left one 20 mm inside its upper arm.
+  const std::vector<Vec2> l = {{0, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 2}, {0, 2}};
+  Case c = load_case_text(header() + polygon_block("l", l) + square("sq", 1.2, 1.2, 0.3) + kStage, "l_shape", ".");
+  translate(c, "sq", Vec2(-0.22, -0.25));
+  const auto found = contacts_on(c, "sq", "l");
+  // Depth of p in the L: its distance to the nearest point of the L's boundary (inside: x < 1 or y < 1).
+  auto depth = [&](const Vec2& p) {
+    double d = 1e300;
+    for (std::size_t i = 0; i < l.size(); ++i) {
+      const Vec2 a = l[i], b = l[(i + 1) % l.size()];
+      const double s = std::clamp((p - a).dot(b - a) / (b - a).squaredNorm(), 0.0, 1.0);
+      d = std::min(d, (p - (a + s * (b - a))).norm());
+    }
+    const bool inside = p.x() > 0 && p.y() > 0 && (p.x() < 1 || p.y() < 1) && p.x() < 2 && p.y() < 2;
+    return inside ? d : -d;
+  };
+  int deep = 0;
+  for (const Contact& k : found) {
+    const Vec2 p = c.model.gp[k.point].x;
+    EXPECT_NEAR(k.overlap, depth(p), 1e-12) << "point at (" << p.transpose() << ")";
+    deep += k.overlap > 0.01;
+  }
+  EXPECT_EQ(deep, 3);
+  EXPECT_NEAR(std::sqrt(0.02 * 0.02 + 0.05 * 0.05), depth(Vec2(0.98, 0.95)), 1e-15);
+}
+
+TEST(DeepContacts, CornerPressedDeeperThanTheToleranceKeepsALength) {
+  // A diamond whose lower tip is 10 mm into a base (detection distance 2 mm).
+  const double d = 0.01;
+  Case c = load_case_text(header() + square("base", -1, -2, 2) +
+                              polygon_block("diamond", {{0, 0}, {0.5, 0.5}, {0, 1}, {-0.5, 0.5}}) + kStage,
+                          "diamond", ".");
+  translate(c, "diamond", Vec2(0, -d));
+  const auto found = contacts_on(c, "diamond", "base");
+  ASSERT_FALSE(found.empty());
+  double length = 0.0;
+  for (const Contact& k : found) {
+    EXPECT_NEAR(k.overlap, d, 1e-9);
+    length += k.length;
+  }
+  // The tip's two edges, at 45 degrees, inside the band from the tip to the base's face and the
+  // 2 mm tolerance beyond: about 2 (d + 2 mm) = 24 mm; at least the 20 mm the tip is buried over.
+  std::cout << "tip 10 mm deep: contact length " << length * 1e3 << " mm\n";
+  EXPECT_GT(length, 2.0 * d);
+  EXPECT_LT(length, 2.0 * (d + 2.0 * c.settings.detection.distance));
+}
+
+TEST(DeepContacts, DiamondOnItsTipComesToRestDeeperThanTheTolerance) {
+  // Weight 2650 kg/m3 x 0.5 m2 x 9.81 m/s2 = 13 kN/m on a tip whose contact length grows with its
+  // depth d (2 (d + 2 mm)): kn d 2 (d + 2 mm) = W gives d of about 5 mm at kn = 0.2 GPa/m (it
+  // comes to rest 5.9 mm lower), more than twice the 2 mm detection distance.
+  std::ostringstream os;
+  os << header("0.2 GPa/m") << square("base", -1, -2, 2)
+     << polygon_block("diamond", {{0, 0}, {0.5, 0.5}, {0, 1}, {-0.5, 0.5}})
+     << "[[boundary]]\ntype = \"fixed\"\nblock = \"base\"\n"
+     << "[[boundary]]\ntype = \"velocity\"\nblock = \"diamond\"\nspin = \"0 rad/s\"\nvx = \"0 m/s\"\n"
+     << "[[stages]]\nname = \"settle\"\ndamping = \"local\"\nuntil = \"equilibrium\"\nratio = 1e-7\nmax_steps = 200000\n";
+  Case c = load_case_text(os.str(), "diamond_rest", ".");
+  const auto out = std::filesystem::temp_directory_path() / ("rockdem_deep_" + std::to_string(::getpid()));
+  run_case(c, out, true);
+  std::filesystem::remove_all(out);
+  const Block& dia = c.model.blocks[static_cast<std::size_t>(c.block_index("diamond", "test"))];
+  const double sink = -(dia.xc - dia.xc0).y();
+  const double weight = 2650.0 * 0.5 * 9.81;
+  double reaction = 0.0;
+  for (const Contact& k : c.model.contacts.items)
+    if (!k.response.open) reaction += k.response.sigma_n * k.length * std::abs(k.normal.y());
+  std::cout << "diamond on its tip: sinks " << sink * 1e3 << " mm, reaction " << reaction << " N/m of " << weight << "\n";
+  EXPECT_GT(sink, c.settings.detection.distance);  // deeper than the band about the point alone
+  EXPECT_LT(sink, 0.01);
+  EXPECT_NEAR(reaction, weight, 1e-3 * weight);
+}
