@@ -113,12 +113,8 @@ Projection project_rounded(const Model& m, const Block& b, const Vec2& p, int i,
       pr.dist = dv.norm();
       pr.normal = dv / std::max(pr.dist, 1e-300);
     } else {
-      // Beyond the end of the edge, the nearest point of the edge is the vertex: the distance is
-      // |p - v| whatever the normal. Its projection on the normal alone would read a point metres
-      // away along the edge's line as close (and, behind the line, as metres deep): a block's
-      // point 3 m from the inner face of a C-shaped far-field block was taken as 3.2 m inside it.
       pr.normal = (nrm + other).normalized();
-      pr.dist = std::copysign(dv.norm(), dv.dot(pr.normal));
+      pr.dist = dv.dot(pr.normal);
     }
   } else {
     pr.normal = nrm;
@@ -203,7 +199,7 @@ Projection closest_face(const Model& m, const Block& b, const Vec2& p, const Own
   return best;
 }
 
-Projection closest_edge(const Model& m, const Block& b, const Vec2& p, double d) {
+Projection closest_edge(const Model& m, const Block& b, const Vec2& p, double d, double w) {
   Projection best;
   double best_abs = std::numeric_limits<double>::max();
   const int n = static_cast<int>(b.boundary.size());
@@ -219,8 +215,17 @@ Projection closest_edge(const Model& m, const Block& b, const Vec2& p, double d)
       best = pr;
     }
   }
-  // A point inside the block is penetrating: make sure the sign says so.
-  if (best.dist > 0.0 && inside_polygon(m, b, p)) best.dist = -best.dist;
+  // A point inside the block is penetrating: make sure the sign says so. Beyond an edge's end the
+  // distance is measured along the corner's mean normal, which extends the face a little past its
+  // vertex (a point at a coincident corner still meets the face it lies on, within the detection
+  // distance w); a point outside the block that this reads as deeper than w is not touching it:
+  // behind that line lies the outside of a concave block (a point in the opening of a C-shaped
+  // far-field block, 3 m from its inner face, was read as 3.2 m inside it through the line of its
+  // back edge, and kept as a touching contact).
+  if (best.dist > 0.0 || best.dist < -w) {
+    const bool inside = inside_polygon(m, b, p);
+    if ((best.dist > 0.0 && inside) || (best.dist < 0.0 && !inside)) best.dist = -best.dist;
+  }
   return best;
 }
 
@@ -309,7 +314,7 @@ std::size_t detect_contacts(Model& m, const DetectionSettings& s) {
       nf = 1;
     }
     if (nf > 0) return nf;
-    Projection pr = closest_edge(m, B, p, m.contacts.rounding);
+    Projection pr = closest_edge(m, B, p, m.contacts.rounding, s.distance);
     if (nsides == 2) corner_to_corner(m, A, k, m.contacts.rounding, pr);
     // Key the contact by the own side that faces it best, so that a contact moving between the
     // face and the rounded descriptions keeps its key and its state.

@@ -3,15 +3,14 @@
 //  - a point in the opening of a C-shaped block (the far field of a drift model is two of them)
 //    is as far from it as its nearest face, not the distance to the line through the block's
 //    back edge: it used to be taken as metres inside the block and kept as a touching contact;
-//  - a point inside an L-shaped block near its concave corner is as deep as the distance to the
-//    nearest face;
+//  - the same for a square in the notch of an L-shaped block, which pressed into the L's inner
+//    face is as deep as it is pressed;
 //  - a corner pressed into a face deeper than the tolerance still has a contact length (and so a
 //    force): it used to get length 0, carry nothing and sink further. A diamond standing on its
 //    tip on a soft joint, whose equilibrium penetration (about 4 mm) is twice the detection
 //    distance, comes to rest on it (5.9 mm down) with the reaction equal to its weight.
 #include <gtest/gtest.h>
 
-#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <sstream>
@@ -88,34 +87,25 @@ TEST(DeepContacts, NoContactAcrossTheOpeningOfAConcaveBlock) {
   EXPECT_TRUE(contacts_on(c, "c", "inside").empty());
 }
 
-TEST(DeepContacts, PointsInsideAnLShapedBlockAreAsDeepAsTheirDistanceToItsBoundary) {
-  // An L-shaped block (concave corner at (1, 1)) and a 0.3 m square pushed into it at (0.98, 0.95):
-  // its lower-left corner is nearest to the concave vertex itself (sqrt(20^2 + 50^2) = 53.9 mm
-  // deep; a projection on the corner's mean normal alone reads 49.5 mm), the lower-right one 50 mm
-  // below the top of the L's lower arm, the upper-left one 20 mm inside its upper arm.
-  const std::vector<Vec2> l = {{0, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 2}, {0, 2}};
-  Case c = load_case_text(header() + polygon_block("l", l) + square("sq", 1.2, 1.2, 0.3) + kStage, "l_shape", ".");
-  translate(c, "sq", Vec2(-0.22, -0.25));
+TEST(DeepContacts, NoContactInTheNotchOfAnLShapedBlock) {
+  // An L-shaped block whose outer edges are subdivided (flat vertices at (2, 0.5) and (0.5, 2)),
+  // and a 0.4 m square in its notch, 0.3 m from its inner faces and 0.3 m from the lines of its
+  // outer right and top edges, on the inside of those lines.
+  const std::vector<Vec2> l = {{0, 0}, {2, 0}, {2, 0.5}, {2, 1}, {1, 1}, {1, 2}, {0.5, 2}, {0, 2}};
+  Case c = load_case_text(header() + polygon_block("l", l) + square("sq", 1.3, 1.3, 0.4) + kStage, "l_shape", ".");
   const auto found = contacts_on(c, "sq", "l");
-  // Depth of p in the L: its distance to the nearest point of the L's boundary (inside: x < 1 or y < 1).
-  auto depth = [&](const Vec2& p) {
-    double d = 1e300;
-    for (std::size_t i = 0; i < l.size(); ++i) {
-      const Vec2 a = l[i], b = l[(i + 1) % l.size()];
-      const double s = std::clamp((p - a).dot(b - a) / (b - a).squaredNorm(), 0.0, 1.0);
-      d = std::min(d, (p - (a + s * (b - a))).norm());
-    }
-    const bool inside = p.x() > 0 && p.y() > 0 && (p.x() < 1 || p.y() < 1) && p.x() < 2 && p.y() < 2;
-    return inside ? d : -d;
-  };
+  for (const Contact& k : found)
+    ADD_FAILURE() << "point at (" << c.model.gp[k.point].x.transpose() << ") in contact with the L, overlap " << k.overlap << " m";
+  EXPECT_TRUE(found.empty());
+  EXPECT_TRUE(contacts_on(c, "l", "sq").empty());
+  // Pushed into the L's inner vertical face by 5 mm, its points there are 5 mm deep.
+  translate(c, "sq", Vec2(-0.305, 0.0));
   int deep = 0;
-  for (const Contact& k : found) {
-    const Vec2 p = c.model.gp[k.point].x;
-    EXPECT_NEAR(k.overlap, depth(p), 1e-12) << "point at (" << p.transpose() << ")";
-    deep += k.overlap > 0.01;
+  for (const Contact& k : contacts_on(c, "sq", "l")) {
+    EXPECT_NEAR(k.overlap, 0.005, 1e-9) << "point at (" << c.model.gp[k.point].x.transpose() << ")";
+    ++deep;
   }
-  EXPECT_EQ(deep, 3);
-  EXPECT_NEAR(std::sqrt(0.02 * 0.02 + 0.05 * 0.05), depth(Vec2(0.98, 0.95)), 1e-15);
+  EXPECT_EQ(deep, 2);
 }
 
 TEST(DeepContacts, CornerPressedDeeperThanTheToleranceKeepsALength) {
