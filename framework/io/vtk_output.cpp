@@ -2,6 +2,7 @@
 
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
+#include <vtkDataSetAttributes.h>
 #include <vtkCellType.h>
 #include <vtkDoubleArray.h>
 #include <vtkIdTypeArray.h>
@@ -294,32 +295,90 @@ void VtkSeries::resume(double time) {
   if (write_contacts_) contacts_ = keep(read_pvd(dir_ / "contacts.pvd", "contacts"));
 }
 
-void write_block_outlines_vtu(const Model& m, const std::vector<int>& region, const std::vector<int>& opening,
-                              const std::string& path) {
+namespace {
+
+// The arrays of `fields`, each checked to have `n` values, added to `data` (point or cell data),
+// and the name lists to the grid's field data.
+void add_fields(vtkUnstructuredGrid* grid, vtkDataSetAttributes* data, const VtkFields& fields, vtkIdType n,
+                const std::string& path) {
+  const auto check = [&](const std::string& name, std::size_t size) {
+    if (static_cast<vtkIdType>(size) != n)
+      throw std::logic_error("VTK field '" + name + "' of '" + path + "' has " + std::to_string(size) + " values for " +
+                             std::to_string(n) + " items");
+  };
+  for (const auto& [name, v] : fields.scalars) {
+    check(name, v.size());
+    auto a = make_array(name.c_str(), 1, n);
+    for (vtkIdType i = 0; i < n; ++i) a->SetValue(i, v[static_cast<std::size_t>(i)]);
+    data->AddArray(a);
+  }
+  for (const auto& [name, v] : fields.vectors) {
+    check(name, v.size());
+    auto a = make_array(name.c_str(), 3, n);
+    for (vtkIdType i = 0; i < n; ++i) a->SetTuple3(i, v[static_cast<std::size_t>(i)].x(), v[static_cast<std::size_t>(i)].y(), 0.0);
+    data->AddArray(a);
+  }
+  for (const auto& [name, v] : fields.ints) {
+    check(name, v.size());
+    auto a = make_int_array(name.c_str(), n);
+    for (vtkIdType i = 0; i < n; ++i) a->SetValue(i, v[static_cast<std::size_t>(i)]);
+    data->AddArray(a);
+  }
+  for (const auto& [name, v] : fields.names) {
+    vtkNew<vtkStringArray> a;
+    a->SetName(name.c_str());
+    for (const std::string& x : v) a->InsertNextValue(x);
+    grid->GetFieldData()->AddArray(a);
+  }
+}
+
+}  // namespace
+
+void write_points_vtu(const std::vector<Vec2>& points, const VtkFields& fields, const std::string& path) {
+  vtkNew<vtkUnstructuredGrid> grid;
+  const auto n = static_cast<vtkIdType>(points.size());
+  auto pts = make_points(n);
+  grid->Allocate(n);
+  for (vtkIdType i = 0; i < n; ++i) {
+    pts->SetPoint(i, points[static_cast<std::size_t>(i)].x(), points[static_cast<std::size_t>(i)].y(), 0.0);
+    grid->InsertNextCell(VTK_VERTEX, 1, &i);
+  }
+  grid->SetPoints(pts);
+  add_fields(grid, grid->GetPointData(), fields, n, path);
+  write_grid(grid, path);
+}
+
+void write_block_cells_vtu(const Model& m, const VtkFields& fields, const std::string& path) {
   vtkNew<vtkUnstructuredGrid> grid;
   auto pts = make_points(static_cast<vtkIdType>(m.gp.size()));
   for (std::size_t i = 0; i < m.gp.size(); ++i) pts->SetPoint(static_cast<vtkIdType>(i), m.gp[i].x.x(), m.gp[i].x.y(), 0.0);
   grid->SetPoints(pts);
   const auto n = static_cast<vtkIdType>(m.blocks.size());
   grid->Allocate(n);
-  auto block_id = make_int_array("block_id", n), group = make_int_array("group", n);
-  auto rigid = make_int_array("rigid", n), reg = make_int_array("region", n), open = make_int_array("opening", n);
   std::vector<vtkIdType> ids;
-  for (vtkIdType i = 0; i < n; ++i) {
-    const Block& b = m.blocks[static_cast<std::size_t>(i)];
+  for (const Block& b : m.blocks) {
     ids.assign(b.boundary.begin(), b.boundary.end());
     grid->InsertNextCell(VTK_POLYGON, static_cast<vtkIdType>(ids.size()), ids.data());
-    block_id->SetValue(i, id_value(b.id));
-    group->SetValue(i, b.group);
-    rigid->SetValue(i, b.rigid ? 1 : 0);
-    reg->SetValue(i, region[static_cast<std::size_t>(i)]);
-    open->SetValue(i, opening[static_cast<std::size_t>(i)]);
   }
-  for (vtkDataArray* a : {static_cast<vtkDataArray*>(block_id), static_cast<vtkDataArray*>(group),
-                          static_cast<vtkDataArray*>(rigid), static_cast<vtkDataArray*>(reg),
-                          static_cast<vtkDataArray*>(open)})
-    grid->GetCellData()->AddArray(a);
+  add_fields(grid, grid->GetCellData(), fields, n, path);
   write_grid(grid, path);
+}
+
+void write_pvd_collection(const std::filesystem::path& path, const std::vector<VtkSeries::Entry>& entries) {
+  write_pvd(path, entries);
+}
+
+void write_block_outlines_vtu(const Model& m, const std::vector<int>& region, const std::vector<int>& opening,
+                              const std::string& path) {
+  VtkFields f;
+  std::vector<int> block_id, group, rigid;
+  for (const Block& b : m.blocks) {
+    block_id.push_back(id_value(b.id));
+    group.push_back(b.group);
+    rigid.push_back(b.rigid ? 1 : 0);
+  }
+  f.ints = {{"block_id", block_id}, {"group", group}, {"rigid", rigid}, {"region", region}, {"opening", opening}};
+  write_block_cells_vtu(m, f, path);
 }
 
 void write_joint_traces_vtu(const std::vector<RockMassSegment>& segments, const std::string& path) {

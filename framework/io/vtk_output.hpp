@@ -18,6 +18,7 @@
 //               joint trace, -1 no label)
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "framework/geometry/rock_mass.hpp"
@@ -58,6 +59,24 @@ class VtkSeries {
 // The two grids as standalone writers (used by VtkSeries; handy for one-off snapshots).
 void write_blocks_vtu(const Model& m, const std::string& path);
 void write_contacts_vtu(const Model& m, const std::string& path);
+
+// Named fields for results that are not the model's own state (the drift study's joints and
+// blocks, docs/drift-study.md): one value per point or per block, in the order given.
+struct VtkFields {
+  std::vector<std::pair<std::string, std::vector<double>>> scalars;
+  std::vector<std::pair<std::string, std::vector<Vec2>>> vectors;  // written with z = 0
+  std::vector<std::pair<std::string, std::vector<int>>> ints;
+  // String arrays in the field data, e.g. the names that an int field's values index.
+  std::vector<std::pair<std::string, std::vector<std::string>>> names;
+};
+// One VTK_VERTEX per point, `fields` as point data.
+void write_points_vtu(const std::vector<Vec2>& points, const VtkFields& fields, const std::string& path);
+// One VTK_POLYGON per block over its boundary loop at the gridpoints' present positions, `fields`
+// as cell data (one value per block, in m.blocks order).
+void write_block_cells_vtu(const Model& m, const VtkFields& fields, const std::string& path);
+// A ParaView collection of `entries` (time and file, relative to the collection's folder), written
+// to a temporary name and renamed.
+void write_pvd_collection(const std::filesystem::path& path, const std::vector<VtkSeries::Entry>& entries);
 
 // Inspection before a run (`rockdem run --write-blocks`): one polygon cell per block over its
 // boundary loop, cell data block_id, group, rigid, region and opening (per block, -1 none).

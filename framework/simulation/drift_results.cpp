@@ -12,6 +12,7 @@
 #include "framework/core/error.hpp"
 #include "framework/geometry/polygon.hpp"
 #include "framework/io/output_folder.hpp"
+#include "framework/io/vtk_output.hpp"
 
 namespace rockdem {
 
@@ -310,10 +311,13 @@ void DriftResults::stage_ended(const Model& m, std::size_t index, double ratio) 
   if (v.size() != cols.size() || !std::all_of(cols.begin(), cols.end(), [&](const std::string& k) { return v.count(k) > 0; }))
     throw std::logic_error("drift results: the columns of events.csv are out of step with DriftResults::columns()");
   rows_.push_back(std::move(row));
-  write_files(m, index);
+  std::vector<Vec2> moved(m.blocks.size(), Vec2::Constant(kNaN));
+  for (std::size_t i = 0; i < m.blocks.size(); ++i)
+    if (const auto r = ref_.centroids.find(m.blocks[i].id); r != ref_.centroids.end()) moved[i] = centroid[i] - r->second;
+  write_files(m, index, moved);
 }
 
-void DriftResults::write_files(const Model& m, std::size_t index) const {
+void DriftResults::write_files(const Model& m, std::size_t index, const std::vector<Vec2>& moved) const {
   const DriftSpec& d = c_.drift;
   fs::create_directories(dir_);
   std::ostringstream head;
@@ -362,6 +366,73 @@ void DriftResults::write_files(const Model& m, std::size_t index) const {
        << (c.response.open ? "open" : c.response.slipping ? "slipping" : "elastic") << "\n";
   }
   write_file_atomically(dir_ / ("contacts_" + std::to_string(index + 1) + "_" + c_.stages[index].name + ".csv"), os.str());
+  write_vtk(m, index, moved);
+}
+
+// The same results as fields for ParaView, one file per stage and a collection over the stages
+// (time = the stage's end): joints_<n>_<stage>.vtu (a point per joint contact: slip, opening,
+// aperture, ...; the contacts_*.csv columns) and blocks_<n>_<stage>.vtu (a cell per block: its
+// displacement since the reference in the far field's frame, and whether and when it fell).
+void DriftResults::write_vtk(const Model& m, std::size_t index, const std::vector<Vec2>& moved) const {
+  const DriftSpec& d = c_.drift;
+  const std::string tag = std::to_string(index + 1) + "_" + c_.stages[index].name;
+  std::map<std::string, int> set_index;
+  for (std::size_t i = 0; i < sets_.size(); ++i) set_index[sets_[i]] = static_cast<int>(i);
+  std::vector<Vec2> pts, normal;
+  std::vector<double> slip, opening, aperture_m, wall, length, sn, tau;
+  std::vector<int> set, state;
+  for (const Contact& c : m.contacts.items) {
+    const EdgeLabel* joint = joint_of(m, c);
+    if (!joint) continue;
+    const auto [s, o] = since_reference(c);
+    const Vec2& x = m.gp[static_cast<std::size_t>(c.point)].x;
+    pts.push_back(x);
+    normal.push_back(c.normal);
+    slip.push_back(s);
+    opening.push_back(o);
+    aperture_m.push_back(aperture(d, c.response.u_n));
+    wall.push_back(distance_to_wall(x));
+    length.push_back(c.length);
+    sn.push_back(c.response.sigma_n);
+    tau.push_back(c.response.tau);
+    const auto it = set_index.find(joint->joint);
+    set.push_back(it != set_index.end() ? it->second : -1);
+    state.push_back(c.response.open ? 2 : c.response.slipping ? 1 : 0);
+  }
+  VtkFields jf;
+  jf.scalars = {{"slip_m", slip},         {"opening_m", opening},          {"aperture_m", aperture_m},
+                {"distance_to_wall_m", wall}, {"length_m", length},        {"normal_stress_Pa", sn},
+                {"shear_stress_Pa", tau}};
+  jf.vectors = {{"normal", normal}};
+  jf.ints = {{"joint_set", set}, {"state", state}};
+  jf.names = {{"joint_set_names", sets_}, {"state_names", {"elastic", "slipping", "open"}}};
+  write_points_vtu(pts, jf, (dir_ / ("joints_" + tag + ".vtu")).string());
+
+  std::map<BlockId, std::size_t> fell_in;
+  for (const Fallen& f : fallen_) fell_in[f.id] = f.stage;
+  std::vector<double> moved_m;
+  std::vector<int> block_id, fallen, fallen_stage;
+  for (std::size_t i = 0; i < m.blocks.size(); ++i) {
+    moved_m.push_back(moved[i].norm());
+    block_id.push_back(id_value(m.blocks[i].id));
+    const auto it = fell_in.find(m.blocks[i].id);
+    fallen.push_back(it != fell_in.end() ? 1 : 0);
+    fallen_stage.push_back(it != fell_in.end() ? static_cast<int>(it->second) : -1);
+  }
+  VtkFields bf;
+  bf.vectors = {{"displacement_m", moved}};
+  bf.scalars = {{"moved_m", moved_m}};
+  bf.ints = {{"block_id", block_id}, {"fallen", fallen}, {"fallen_stage", fallen_stage}};
+  write_block_cells_vtu(m, bf, (dir_ / ("blocks_" + tag + ".vtu")).string());
+
+  std::vector<VtkSeries::Entry> joints, blocks;
+  for (const Row& r : rows_) {
+    const std::string t = std::to_string(r.stage) + "_" + r.name;
+    joints.push_back({r.time, static_cast<long>(r.stage), "joints_" + t + ".vtu"});
+    blocks.push_back({r.time, static_cast<long>(r.stage), "blocks_" + t + ".vtu"});
+  }
+  write_pvd_collection(dir_ / "joints.pvd", joints);
+  write_pvd_collection(dir_ / "blocks.pvd", blocks);
 }
 
 CheckpointArrays DriftResults::saved_state() const {

@@ -71,7 +71,10 @@ class DriftResults {
   };
 
   void take_reference(const Model& m);
-  void write_files(const Model& m, std::size_t index) const;
+  // `moved`: each block's centroid displacement since the reference, in the far field's frame
+  // (NaN for a block made since), in m.blocks order.
+  void write_files(const Model& m, std::size_t index, const std::vector<Vec2>& moved) const;
+  void write_vtk(const Model& m, std::size_t index, const std::vector<Vec2>& moved) const;
   double distance_to_wall(const Vec2& p) const;
   std::vector<std::string> columns() const;
   // A contact's slip and opening since the reference (from zero for a contact made since).

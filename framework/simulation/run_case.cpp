@@ -117,6 +117,7 @@ class Progress {
     if (quiet_) return;
     end_line();
     const StageSpec& st = stage.spec();
+    stage_label_ = st.name + " " + std::to_string(index + 1) + "/" + std::to_string(c_.stages.size());
     std::cout << "stage " << index + 1 << "/" << c_.stages.size() << " '" << st.name << "': time step " << e.dt() << " s, "
               << (st.until == StageSpec::Until::equilibrium ? "until equilibrium" : std::to_string(stage.planned_steps()) + " steps")
               << ", " << contacts << " contacts";
@@ -139,7 +140,8 @@ class Progress {
     const double el = std::chrono::duration<double>(now - stage_wall0_).count();
     const double rate = static_cast<double>(n) / el;
     const double left = stage.seconds_left(n, rate);
-    std::cout << (terminal_ ? "\r" : "") << "  step " << c_.model.step << "  t = " << std::setprecision(6) << c_.model.time
+    // The stage is named on every line: in a log the stage's header is far above.
+    std::cout << (terminal_ ? "\r" : "") << "  " << stage_label_ << "  step " << c_.model.step << "  t = " << std::setprecision(6) << c_.model.time
               << " s  " << std::setprecision(3) << rate << " steps/s  ratio " << e.unbalanced_ratio()
               << (std::isfinite(left) ? "  left ~" + human_seconds(left) : std::string())
               << (terminal_ ? "\x1b[K" : "\n") << std::flush;  // erase the rest of the previous line
@@ -170,6 +172,7 @@ class Progress {
   bool quiet_;
   bool terminal_;        // stdout is a terminal
   bool pending_ = false;  // an updating step line has not been ended yet
+  std::string stage_label_;  // "event_1 3/6": the stage the progress lines are about
   Clock::time_point wall0_, stage_wall0_, last_print_;
 };
 

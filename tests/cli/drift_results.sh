@@ -8,6 +8,8 @@
 #    written beside them (the tensor recomputed here from the apertures: Snow's parallel plates);
 #  - fallen blocks: none at the case's 2 cm; with a threshold of 0.1 mm the blocks that moved
 #    that far towards the opening, above it, are listed with the stage they first passed it;
+#  - the same as VTK fields: joints_/blocks_<n>_<stage>.vtu and their .pvd collections, the joint
+#    fields equal to the CSV;
 #  - a restart from the middle stage's checkpoint gives the same files; 2 processes too;
 #  - bad [drift] input is refused naming the key.
 # Usage: bash drift_results.sh <rockdem-binary> <source-dir>
@@ -77,6 +79,52 @@ check(np.allclose(k, got, rtol=1e-6, atol=0), f"permeability {got} from the aper
 check(all(float(c["aperture_m"]) >= 3e-5 for c in ct), "no aperture below the residual")
 sys.exit(1 if fail else 0)
 PY
+# The same results as VTK fields (ParaView): one joints_/blocks_ file per stage from the reference
+# on, collections listing them at the stages' times, the joint fields equal to contacts_*.csv.
+/usr/bin/python3 - "$tmp/a" <<'PY' || fail=1
+import sys, csv, re
+import numpy as np
+import vtk
+from vtk.util.numpy_support import vtk_to_numpy
+out = sys.argv[1] + "/drift"
+fail = False
+def check(good, what):
+    global fail
+    print(("ok   " if good else "FAIL ") + what)
+    fail = fail or not good
+def read(path):
+    r = vtk.vtkXMLUnstructuredGridReader()
+    r.SetFileName(path)
+    r.Update()
+    return r.GetOutput()
+ev = [r for r in csv.DictReader(l for l in open(out + "/events.csv") if not l.startswith("#"))]
+tags = [f"{r['stage']}_{r['name']}" for r in ev]
+for kind in ("joints", "blocks"):
+    pvd = open(f"{out}/{kind}.pvd").read()
+    files = re.findall(r'file="([^"]+)"', pvd)
+    times = [float(t) for t in re.findall(r'timestep="([^"]+)"', pvd)]
+    check(files == [f"{kind}_{t}.vtu" for t in tags] and np.allclose(times, [float(r["time_s"]) for r in ev]),
+          f"{kind}.pvd lists {len(files)} stages at their end times")
+g = read(f"{out}/joints_{tags[-1]}.vtu")
+ct = [r for r in csv.DictReader(l for l in open(f"{out}/contacts_{tags[-1]}.csv") if not l.startswith("#"))]
+pd = g.GetPointData()
+same = g.GetNumberOfPoints() == len(ct)
+for field, col in (("slip_m", "slip_m"), ("opening_m", "opening_m"), ("aperture_m", "aperture_m"),
+                   ("distance_to_wall_m", "distance_to_wall_m"), ("normal_stress_Pa", "normal_stress_Pa")):
+    a = vtk_to_numpy(pd.GetArray(field))
+    same = same and np.allclose(a, [float(c[col]) for c in ct], rtol=1e-8, atol=1e-15)
+names = [g.GetFieldData().GetAbstractArray("joint_set_names").GetValue(i) for i in range(g.GetFieldData().GetAbstractArray("joint_set_names").GetNumberOfValues())]
+sets = vtk_to_numpy(pd.GetArray("joint_set"))
+same = same and [names[i] for i in sets] == [c["set"] for c in ct]
+check(same, f"joints_{tags[-1]}.vtu: {g.GetNumberOfPoints()} joint contacts, slip, opening, aperture, set as in the CSV")
+b = read(f"{out}/blocks_{tags[-1]}.vtu")
+moved = vtk_to_numpy(b.GetCellData().GetArray("moved_m"))
+fallen = vtk_to_numpy(b.GetCellData().GetArray("fallen"))
+check(b.GetNumberOfCells() > 10 and np.nanmax(moved) < 0.01 and fallen.sum() == 0,
+      f"blocks_{tags[-1]}.vtu: {b.GetNumberOfCells()} blocks, largest move {np.nanmax(moved) * 1e3:.3f} mm, none fallen")
+sys.exit(1 if fail else 0)
+PY
+
 n=$(grep -vc '^#' "$tmp/a/drift/fallen_blocks.csv")
 [ "$n" = 1 ] && ok "no block fell at 2 cm" || bad "blocks listed as fallen at 2 cm: $((n - 1))"
 
@@ -101,13 +149,13 @@ PY
 # Restart from the middle stage: the same results.
 cp -r "$tmp/a" "$tmp/r"
 "$bin" run "$case_file" --out "$tmp/r" --restart "$tmp/r/stage_3_loosen.h5" --quiet > /dev/null || bad "restart exited $?"
-for f in events.csv fallen_blocks.csv contacts_4_settle.csv; do
+for f in events.csv fallen_blocks.csv contacts_4_settle.csv joints_4_settle.vtu blocks_4_settle.vtu joints.pvd blocks.pvd; do
   cmp -s "$tmp/a/drift/$f" "$tmp/r/drift/$f" && ok "restart from stage 3: $f identical" || bad "restart from stage 3: $f differs"
 done
 
 # Two processes: the same results.
 mpirun -np 2 "$bin" run "$case_file" --out "$tmp/p2" --quiet > "$tmp/p2.log" 2>&1 || { cat "$tmp/p2.log"; bad "2-process run exited"; }
-for f in events.csv fallen_blocks.csv contacts_3_loosen.csv contacts_4_settle.csv; do
+for f in events.csv fallen_blocks.csv contacts_3_loosen.csv contacts_4_settle.csv joints_4_settle.vtu blocks_4_settle.vtu; do
   cmp -s "$tmp/a/drift/$f" "$tmp/p2/drift/$f" && ok "2 processes: $f identical" || bad "2 processes: $f differs"
 done
 
