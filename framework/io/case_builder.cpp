@@ -360,6 +360,11 @@ void CaseBuilder::finish_stages() {
 }
 
 int CaseBuilder::component_index(const HistoryQuantity& q, const HistoryInput& s) {
+  if (q.components.empty()) {
+    if (s.component)
+      throw InputError(s.component_where + ": quantity '" + q.name + "' has no components; remove the 'component' key");
+    return 0;
+  }
   const std::string component = s.component.value_or(q.components.front());
   const auto c = std::find(q.components.begin(), q.components.end(), component);
   if (c == q.components.end())
@@ -398,6 +403,9 @@ void CaseBuilder::add_history(const HistoryInput& s) {
       h.target.points = select_outer_face(m, h.target.block, face_direction(s.face, s.face_where),
                                           outer_face_tolerance(m, h.target.block)).points;
   }
+  // A quantity of the whole model with components (energy): its component was read nowhere, so
+  // every energy history recorded the kinetic energy whatever its `component` said.
+  if (!q.needs_point && !q.needs_block) h.target.component = component_index(q, s);
   c_.histories.push_back(std::move(h));
 }
 

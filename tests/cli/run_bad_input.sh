@@ -66,6 +66,13 @@ expect unknown_material 2 "unknown material 'granite'" "tuff"
 variant overlap 's/^rectangle = \["51 mm", "0 mm", "203 mm", "102 mm"\]/rectangle = ["51 mm", "-5 mm", "203 mm", "102 mm"]/'
 expect overlap 2 "blocks 'bottom' and 'top' overlap"
 
+# A component of a model-wide quantity: checked like any other (it used to be ignored, so every
+# energy history recorded the kinetic energy), and refused on a quantity that has none.
+variant energy_component '0,/^\[\[histories\]\]$/s//[[histories]]\nname = "e"\nquantity = "energy"\ncomponent = "strian"\n\n[[histories]]/'
+expect energy_component 2 "unknown component 'strian'" "strain"
+variant ratio_component '0,/^\[\[histories\]\]$/s//[[histories]]\nname = "r"\nquantity = "unbalanced_ratio"\ncomponent = "x"\n\n[[histories]]/'
+expect ratio_component 2 "'unbalanced_ratio' has no components"
+
 variant missing_file 's/^vx = { cycles = .*/vx = { file = { path = "no_such_history.txt", value_unit = "mm\/s" } }/'
 expect missing_file 2 "no_such_history.txt" "does not exist"
 
