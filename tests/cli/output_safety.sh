@@ -108,11 +108,12 @@ fi
 
 # --- 1e. progress: one updating line on a terminal, a line each in a pipe -----------------------
 sed 's/^vtk_interval = 10000/vtk_interval = 10000\nprogress_seconds = "0.2 s"/' "$src/tests/cli/parallel/collapse.toml" > "$tmp/progress.toml"
-piped=$(timeout 300 "$bin" run "$tmp/progress.toml" --out "$tmp/progress_pipe" 2>&1 | grep -c "^  step ")
+# A progress line: "  <stage> <i>/<n>  step <N>  t = ...".
+piped=$(timeout 300 "$bin" run "$tmp/progress.toml" --out "$tmp/progress_pipe" 2>&1 | grep -cE "^  [^ ]+ [0-9]+/[0-9]+  step ")
 if command -v script >/dev/null; then
   timeout 300 script -qc "'$bin' run '$tmp/progress.toml' --out '$tmp/progress_tty'" /dev/null > "$tmp/tty.out" 2>&1
-  updates=$(grep -o $'\r  step ' "$tmp/tty.out" | wc -l)
-  lines=$(tr -d '\r' < "$tmp/tty.out" | grep -c "^  step ")
+  updates=$(grep -oE $'\r  [^ ]+ [0-9]+/[0-9]+  step ' "$tmp/tty.out" | wc -l)
+  lines=$(tr -d '\r' < "$tmp/tty.out" | grep -cE "^  [^ ]+ [0-9]+/[0-9]+  step ")
   if [ "$piped" -lt 3 ] || [ "$updates" -lt 3 ] || [ "$lines" -gt 1 ]; then
     echo "FAIL progress: $piped step lines in a pipe, $updates updates in $lines line(s) on a terminal"; fail=1
   else
