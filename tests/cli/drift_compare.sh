@@ -7,6 +7,7 @@
 #    give different results (no two of them the same slip near the drift after the last event);
 #  - regression: summary.csv against tests/cli/drift/compare_summary_gold.csv (fallen blocks
 #    exactly, displacements to 0.5 mm + 5 %, extents to 0.1 m, permeability ratios to 10 %);
+#  - no stage of any model has a gridpoint faster than 20 m/s (the report's flag);
 #  - bad arguments to the script are refused (exit 2) naming them.
 # Usage: bash drift_compare.sh <rockdem-binary> <source-dir>
 set -u
@@ -48,6 +49,8 @@ slips = {v: float(last[v]["max_slip_near_m"]) for v in last}
 distinct = all(abs(slips[a] - slips[b]) > 1e-6 for a in slips for b in slips if a < b)
 check(distinct, "no two models give the same slip near the drift: " +
       ", ".join(f"{v} {1e3 * s:.2f} mm" for v, s in sorted(slips.items())))
+fast = [f"{r['variant']} {r['name']} {float(r['max_speed_m_s']):.1f} m/s" for r in rows if float(r["max_speed_m_s"]) >= 20.0]
+check(not fast, "no stage of any model has a gridpoint faster than 20 m/s (a numerical episode)" + ("" if not fast else ": " + ", ".join(fast)))
 gold = list(csv.DictReader(open(gold_path)))
 check([(g["variant"], g["name"]) for g in gold] == [(r["variant"], r["name"]) for r in rows], "the same models and stages as the gold file")
 worst = []
