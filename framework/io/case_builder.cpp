@@ -386,7 +386,6 @@ void CaseBuilder::add_history(const HistoryInput& s) {
     h.target.at = *s.at;
     h.target.segment = s.to.has_value();
     if (s.to) h.target.to = *s.to;
-    h.target.component = component_index(q, s);
   }
   if (q.needs_block) {
     h.target.block = c_.block_index(s.block, s.block_where);
@@ -394,7 +393,6 @@ void CaseBuilder::add_history(const HistoryInput& s) {
       throw InputError(s.block_where + ": history '" + s.name + "' measures block '" + s.block + "', which stage '" +
                        c_.stages[static_cast<std::size_t>(k)].name + "' excavates (stages." +
                        c_.stages[static_cast<std::size_t>(k)].name + ".excavate); measure a block that remains");
-    h.target.component = component_index(q, s);
     const Block& b = m.blocks[h.target.block];
     if (q.rigid_only && !b.rigid)
       throw InputError(s.quantity_where + ": '" + q.name + "' is for rigid blocks; block '" + b.name +
@@ -403,9 +401,9 @@ void CaseBuilder::add_history(const HistoryInput& s) {
       h.target.points = select_outer_face(m, h.target.block, face_direction(s.face, s.face_where),
                                           outer_face_tolerance(m, h.target.block)).points;
   }
-  // A quantity of the whole model with components (energy): its component was read nowhere, so
-  // every energy history recorded the kinetic energy whatever its `component` said.
-  if (!q.needs_point && !q.needs_block) h.target.component = component_index(q, s);
+  // Every quantity's component, the model-wide ones' too (an energy history's was once read
+  // nowhere, so each recorded the kinetic energy whatever its `component` said).
+  h.target.component = component_index(q, s);
   c_.histories.push_back(std::move(h));
 }
 

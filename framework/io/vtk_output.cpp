@@ -73,28 +73,7 @@ std::string step_file(const char* prefix, long step) {
   return buf;
 }
 
-// The .pvd is tiny; written to a temporary name and renamed so that a reader (or a crash) never
-// sees half a file.
-void write_pvd(const std::filesystem::path& path, const std::vector<VtkSeries::Entry>& entries) {
-  const std::filesystem::path tmp = path.string() + ".tmp";
-  {
-    std::ofstream out(tmp);
-    if (!out) throw std::runtime_error("cannot write '" + tmp.string() + "'");
-    out << "<?xml version=\"1.0\"?>\n"
-           "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
-           "  <Collection>\n";
-    char t[64];
-    for (const auto& e : entries) {
-      std::snprintf(t, sizeof t, "%.17g", e.time);
-      out << "    <DataSet timestep=\"" << t << "\" group=\"\" part=\"0\" file=\"" << e.file << "\"/>\n";
-    }
-    out << "  </Collection>\n</VTKFile>\n";
-    if (!out.flush()) throw std::runtime_error("cannot write '" + tmp.string() + "'");
-  }
-  std::filesystem::rename(tmp, path);
-}
-
-// Entries of an existing .pvd written by write_pvd (the step is taken from the file name).
+// Entries of an existing .pvd written by write_pvd_collection (the step is taken from the file name).
 std::vector<VtkSeries::Entry> read_pvd(const std::filesystem::path& path, const char* prefix) {
   std::vector<VtkSeries::Entry> out;
   if (!std::filesystem::exists(path)) return out;
@@ -136,6 +115,27 @@ vtkNew<vtkStringArray> edge_label_names(const Model& m) {
 }
 
 }  // namespace
+
+// The .pvd is tiny; written to a temporary name and renamed so that a reader (or a crash) never
+// sees half a file.
+void write_pvd_collection(const std::filesystem::path& path, const std::vector<VtkSeries::Entry>& entries) {
+  const std::filesystem::path tmp = path.string() + ".tmp";
+  {
+    std::ofstream out(tmp);
+    if (!out) throw std::runtime_error("cannot write '" + tmp.string() + "'");
+    out << "<?xml version=\"1.0\"?>\n"
+           "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+           "  <Collection>\n";
+    char t[64];
+    for (const auto& e : entries) {
+      std::snprintf(t, sizeof t, "%.17g", e.time);
+      out << "    <DataSet timestep=\"" << t << "\" group=\"\" part=\"0\" file=\"" << e.file << "\"/>\n";
+    }
+    out << "  </Collection>\n</VTKFile>\n";
+    if (!out.flush()) throw std::runtime_error("cannot write '" + tmp.string() + "'");
+  }
+  std::filesystem::rename(tmp, path);
+}
 
 void write_blocks_vtu(const Model& m, const std::string& path) {
   const auto np = static_cast<vtkIdType>(m.gp.size());
@@ -282,8 +282,8 @@ void VtkSeries::write(const Model& m) {
     upsert(contacts_, {m.time, m.step, cf});
   }
   // Only after the .vtu files are complete, so the collection never lists a partial file.
-  write_pvd(dir_ / "blocks.pvd", blocks_);
-  if (write_contacts_) write_pvd(dir_ / "contacts.pvd", contacts_);
+  write_pvd_collection(dir_ / "blocks.pvd", blocks_);
+  if (write_contacts_) write_pvd_collection(dir_ / "contacts.pvd", contacts_);
 }
 
 void VtkSeries::resume(double time) {
@@ -362,10 +362,6 @@ void write_block_cells_vtu(const Model& m, const VtkFields& fields, const std::s
   }
   add_fields(grid, grid->GetCellData(), fields, n, path);
   write_grid(grid, path);
-}
-
-void write_pvd_collection(const std::filesystem::path& path, const std::vector<VtkSeries::Entry>& entries) {
-  write_pvd(path, entries);
 }
 
 void write_block_outlines_vtu(const Model& m, const std::vector<int>& region, const std::vector<int>& opening,

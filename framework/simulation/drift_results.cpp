@@ -8,6 +8,7 @@
 #include <numbers>
 #include <sstream>
 #include <stdexcept>
+#include <tuple>
 
 #include "framework/core/error.hpp"
 #include "framework/geometry/polygon.hpp"
@@ -22,6 +23,10 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr const char* kWallNames[4] = {"crown", "invert", "left_springline", "right_springline"};
+constexpr const char* kStateNames[3] = {"elastic", "slipping", "open"};  // JointRecord::state
+
+// "<n>_<stage>": the part of a stage's file names after their prefix (contacts_, joints_, blocks_).
+std::string stage_tag(std::size_t stage_number, const std::string& name) { return std::to_string(stage_number) + "_" + name; }
 
 double segment_distance(const Vec2& p, const Vec2& a, const Vec2& b) {
   const Vec2 ab = b - a;
@@ -179,29 +184,24 @@ void DriftResults::stage_ended(const Model& m, std::size_t index, double ratio) 
   long loosened_count = 0;
   std::map<std::string, double> set_max_slip, set_max_slip_near, set_sum_slip_near, set_len_near, set_max_open_near;
   for (const std::string& s : sets_) set_max_slip[s] = set_max_slip_near[s] = set_sum_slip_near[s] = set_len_near[s] = set_max_open_near[s] = 0.0;
-  for (const Contact& c : m.contacts.items) {
-    const EdgeLabel* joint = joint_of(m, c);
-    if (!joint) continue;
-    const EdgeLabel& l = *joint;
-    const auto [slip, opening] = since_reference(c);
-    const Vec2& x = m.gp[static_cast<std::size_t>(c.point)].x;
-    const double dw = distance_to_wall(x);
-    set_max_slip[l.joint] = std::max(set_max_slip[l.joint], std::abs(slip));
-    if (std::abs(slip) > d.loosened || opening > d.loosened) {
-      loosened_extent = std::max(loosened_extent, dw);
+  const std::vector<JointRecord> joints = joint_records(m);
+  for (const JointRecord& r : joints) {
+    const std::string& set = sets_[static_cast<std::size_t>(r.set)];
+    set_max_slip[set] = std::max(set_max_slip[set], std::abs(r.slip));
+    if (std::abs(r.slip) > d.loosened || r.opening > d.loosened) {
+      loosened_extent = std::max(loosened_extent, r.wall);
       ++loosened_count;
     }
-    if (dw > d.near) continue;
-    set_max_slip_near[l.joint] = std::max(set_max_slip_near[l.joint], std::abs(slip));
-    set_sum_slip_near[l.joint] += std::abs(slip) * c.length;
-    set_len_near[l.joint] += c.length;
-    set_max_open_near[l.joint] = std::max(set_max_open_near[l.joint], opening);
-    max_slip_near = std::max(max_slip_near, std::abs(slip));
+    if (r.wall > d.near) continue;
+    set_max_slip_near[set] = std::max(set_max_slip_near[set], std::abs(r.slip));
+    set_sum_slip_near[set] += std::abs(r.slip) * r.length;
+    set_len_near[set] += r.length;
+    set_max_open_near[set] = std::max(set_max_open_near[set], r.opening);
+    max_slip_near = std::max(max_slip_near, std::abs(r.slip));
     // Parallel plates (Snow 1969): each joint adds (a^3/12) per unit length times its length over
     // the area, along its direction t: k += (a^3/12) L/A (I - n n^T).
-    const double a = aperture(d, c.response.u_n);
-    const double w = a * a * a / 12.0 * flow_length(c) / near_area;
-    const Vec2& n = c.normal;
+    const double w = r.aperture * r.aperture * r.aperture / 12.0 * r.flow_length / near_area;
+    const Vec2& n = r.normal;
     kxx += w * (1.0 - n.x() * n.x());
     kyy += w * (1.0 - n.y() * n.y());
     kxy += w * (-n.x() * n.y());
@@ -270,16 +270,17 @@ void DriftResults::stage_ended(const Model& m, std::size_t index, double ratio) 
     centroid[i] = back(polygon_centroid(p));
     area[i] = std::abs(signed_area(p));
   }
-  // Blocks that moved towards the drift by more than fall_displacement since the reference.
+  // Each block's centroid displacement since the reference (NaN for a block made since), and
+  // the blocks that moved towards the drift by more than fall_displacement.
+  std::vector<Vec2> moved(m.blocks.size(), Vec2::Constant(kNaN));
   for (std::size_t i = 0; i < m.blocks.size(); ++i) {
     const Block& b = m.blocks[i];
-    if (has_fallen(b.id)) continue;
     const auto r = ref_.centroids.find(b.id);
     if (r == ref_.centroids.end()) continue;
-    const Vec2 xc = centroid[i];
-    const double moved = (xc - r->second).norm();
-    if (moved > d.fall_displacement && (xc - centre_).norm() < (r->second - centre_).norm())
-      fallen_.push_back({b.id, b.name, area[i], moved, index + 1});
+    moved[i] = centroid[i] - r->second;
+    if (has_fallen(b.id)) continue;
+    if (moved[i].norm() > d.fall_displacement && (centroid[i] - centre_).norm() < (r->second - centre_).norm())
+      fallen_.push_back({b.id, b.name, area[i], moved[i].norm(), index + 1});
   }
   double fallen_area = 0.0;
   for (Fallen& f : fallen_) {
@@ -311,13 +312,11 @@ void DriftResults::stage_ended(const Model& m, std::size_t index, double ratio) 
   if (v.size() != cols.size() || !std::all_of(cols.begin(), cols.end(), [&](const std::string& k) { return v.count(k) > 0; }))
     throw std::logic_error("drift results: the columns of events.csv are out of step with DriftResults::columns()");
   rows_.push_back(std::move(row));
-  std::vector<Vec2> moved(m.blocks.size(), Vec2::Constant(kNaN));
-  for (std::size_t i = 0; i < m.blocks.size(); ++i)
-    if (const auto r = ref_.centroids.find(m.blocks[i].id); r != ref_.centroids.end()) moved[i] = centroid[i] - r->second;
-  write_files(m, index, moved);
+  write_files(m, index, joints, moved);
 }
 
-void DriftResults::write_files(const Model& m, std::size_t index, const std::vector<Vec2>& moved) const {
+void DriftResults::write_files(const Model& m, std::size_t index, const std::vector<JointRecord>& joints,
+                               const std::vector<Vec2>& moved) const {
   const DriftSpec& d = c_.drift;
   fs::create_directories(dir_);
   std::ostringstream head;
@@ -354,50 +353,62 @@ void DriftResults::write_files(const Model& m, std::size_t index, const std::vec
   std::ostringstream os;
   os << head.str() << "x_m,y_m,set,distance_to_wall_m,slip_m,opening_m,aperture_m,length_m,normal_x,normal_y,normal_stress_Pa,"
                       "shear_stress_Pa,state\n";
+  for (const JointRecord& r : joints)
+    os << format(r.x.x()) << "," << format(r.x.y()) << "," << sets_[static_cast<std::size_t>(r.set)] << ","
+       << format(r.wall) << "," << format(r.slip) << "," << format(r.opening) << "," << format(r.aperture) << ","
+       << format(r.length) << "," << format(r.normal.x()) << "," << format(r.normal.y()) << "," << format(r.sigma_n) << ","
+       << format(r.tau) << "," << kStateNames[r.state] << "\n";
+  write_file_atomically(dir_ / ("contacts_" + stage_tag(index + 1, c_.stages[index].name) + ".csv"), os.str());
+  write_vtk(m, index, joints, moved);
+}
+
+// Every joint contact's results at the present state, in contact order (contacts_*.csv, joints_*.vtu).
+std::vector<DriftResults::JointRecord> DriftResults::joint_records(const Model& m) const {
+  std::map<std::string, int> set_index;
+  for (std::size_t i = 0; i < sets_.size(); ++i) set_index[sets_[i]] = static_cast<int>(i);
+  std::vector<JointRecord> out;
   for (const Contact& c : m.contacts.items) {
     const EdgeLabel* joint = joint_of(m, c);
     if (!joint) continue;
-    const auto [slip, opening] = since_reference(c);
-    const Vec2& x = m.gp[static_cast<std::size_t>(c.point)].x;
-    os << format(x.x()) << "," << format(x.y()) << "," << joint->joint << "," << format(distance_to_wall(x)) << ","
-       << format(slip) << "," << format(opening) << "," << format(aperture(d, c.response.u_n))
-       << "," << format(c.length) << "," << format(c.normal.x()) << "," << format(c.normal.y()) << ","
-       << format(c.response.sigma_n) << "," << format(c.response.tau) << ","
-       << (c.response.open ? "open" : c.response.slipping ? "slipping" : "elastic") << "\n";
+    JointRecord r;
+    r.x = m.gp[static_cast<std::size_t>(c.point)].x;
+    r.set = set_index.at(joint->joint);
+    r.wall = distance_to_wall(r.x);
+    std::tie(r.slip, r.opening) = since_reference(c);
+    r.aperture = aperture(c_.drift, c.response.u_n);
+    r.length = c.length;
+    r.flow_length = flow_length(c);
+    r.normal = c.normal;
+    r.sigma_n = c.response.sigma_n;
+    r.tau = c.response.tau;
+    r.state = c.response.open ? 2 : c.response.slipping ? 1 : 0;
+    out.push_back(r);
   }
-  write_file_atomically(dir_ / ("contacts_" + std::to_string(index + 1) + "_" + c_.stages[index].name + ".csv"), os.str());
-  write_vtk(m, index, moved);
+  return out;
 }
 
 // The same results as fields for ParaView, one file per stage and a collection over the stages
-// (time = the stage's end): joints_<n>_<stage>.vtu (a point per joint contact: slip, opening,
-// aperture, ...; the contacts_*.csv columns) and blocks_<n>_<stage>.vtu (a cell per block: its
-// displacement since the reference in the far field's frame, and whether and when it fell).
-void DriftResults::write_vtk(const Model& m, std::size_t index, const std::vector<Vec2>& moved) const {
-  const DriftSpec& d = c_.drift;
-  const std::string tag = std::to_string(index + 1) + "_" + c_.stages[index].name;
-  std::map<std::string, int> set_index;
-  for (std::size_t i = 0; i < sets_.size(); ++i) set_index[sets_[i]] = static_cast<int>(i);
+// (time = the stage's end): joints_<n>_<stage>.vtu (a point per joint contact, the columns of
+// contacts_*.csv) and blocks_<n>_<stage>.vtu (a cell per block: its displacement since the
+// reference in the far field's frame, and whether and when it fell).
+void DriftResults::write_vtk(const Model& m, std::size_t index, const std::vector<JointRecord>& joints,
+                             const std::vector<Vec2>& moved) const {
+  const std::string tag = stage_tag(index + 1, c_.stages[index].name);
   std::vector<Vec2> pts, normal;
   std::vector<double> slip, opening, aperture_m, wall, length, sn, tau;
   std::vector<int> set, state;
-  for (const Contact& c : m.contacts.items) {
-    const EdgeLabel* joint = joint_of(m, c);
-    if (!joint) continue;
-    const auto [s, o] = since_reference(c);
-    const Vec2& x = m.gp[static_cast<std::size_t>(c.point)].x;
-    pts.push_back(x);
-    normal.push_back(c.normal);
-    slip.push_back(s);
-    opening.push_back(o);
-    aperture_m.push_back(aperture(d, c.response.u_n));
-    wall.push_back(distance_to_wall(x));
-    length.push_back(c.length);
-    sn.push_back(c.response.sigma_n);
-    tau.push_back(c.response.tau);
-    const auto it = set_index.find(joint->joint);
-    set.push_back(it != set_index.end() ? it->second : -1);
-    state.push_back(c.response.open ? 2 : c.response.slipping ? 1 : 0);
+  for (const JointRecord& r : joints) {
+    pts.push_back(r.x);
+    normal.push_back(r.normal);
+    slip.push_back(r.slip);
+    opening.push_back(r.opening);
+    aperture_m.push_back(r.aperture);
+    wall.push_back(r.wall);
+    length.push_back(r.length);
+    sn.push_back(r.sigma_n);
+    tau.push_back(r.tau);
+    set.push_back(r.set);
+    state.push_back(r.state);
   }
   VtkFields jf;
   jf.scalars = {{"slip_m", slip},         {"opening_m", opening},          {"aperture_m", aperture_m},
@@ -405,7 +416,7 @@ void DriftResults::write_vtk(const Model& m, std::size_t index, const std::vecto
                 {"shear_stress_Pa", tau}};
   jf.vectors = {{"normal", normal}};
   jf.ints = {{"joint_set", set}, {"state", state}};
-  jf.names = {{"joint_set_names", sets_}, {"state_names", {"elastic", "slipping", "open"}}};
+  jf.names = {{"joint_set_names", sets_}, {"state_names", {std::begin(kStateNames), std::end(kStateNames)}}};
   write_points_vtu(pts, jf, (dir_ / ("joints_" + tag + ".vtu")).string());
 
   std::map<BlockId, std::size_t> fell_in;
@@ -425,14 +436,14 @@ void DriftResults::write_vtk(const Model& m, std::size_t index, const std::vecto
   bf.ints = {{"block_id", block_id}, {"fallen", fallen}, {"fallen_stage", fallen_stage}};
   write_block_cells_vtu(m, bf, (dir_ / ("blocks_" + tag + ".vtu")).string());
 
-  std::vector<VtkSeries::Entry> joints, blocks;
+  std::vector<VtkSeries::Entry> joint_steps, block_steps;
   for (const Row& r : rows_) {
-    const std::string t = std::to_string(r.stage) + "_" + r.name;
-    joints.push_back({r.time, static_cast<long>(r.stage), "joints_" + t + ".vtu"});
-    blocks.push_back({r.time, static_cast<long>(r.stage), "blocks_" + t + ".vtu"});
+    const std::string t = stage_tag(r.stage, r.name);
+    joint_steps.push_back({r.time, static_cast<long>(r.stage), "joints_" + t + ".vtu"});
+    block_steps.push_back({r.time, static_cast<long>(r.stage), "blocks_" + t + ".vtu"});
   }
-  write_pvd_collection(dir_ / "joints.pvd", joints);
-  write_pvd_collection(dir_ / "blocks.pvd", blocks);
+  write_pvd_collection(dir_ / "joints.pvd", joint_steps);
+  write_pvd_collection(dir_ / "blocks.pvd", block_steps);
 }
 
 CheckpointArrays DriftResults::saved_state() const {

@@ -71,10 +71,22 @@ class DriftResults {
   };
 
   void take_reference(const Model& m);
+  // One joint contact's results (a row of contacts_*.csv, a point of joints_*.vtu).
+  struct JointRecord {
+    Vec2 x = Vec2::Zero(), normal = Vec2::Zero();
+    int set = 0;    // index into sets_
+    int state = 0;  // 0 elastic, 1 slipping, 2 open
+    double wall = 0;  // distance to the drift's wall [m]
+    double slip = 0, opening = 0, aperture = 0, length = 0, sigma_n = 0, tau = 0;
+    double flow_length = 0;  // its share of the joint's length for the flow (flow_length())
+  };
+  std::vector<JointRecord> joint_records(const Model& m) const;
   // `moved`: each block's centroid displacement since the reference, in the far field's frame
   // (NaN for a block made since), in m.blocks order.
-  void write_files(const Model& m, std::size_t index, const std::vector<Vec2>& moved) const;
-  void write_vtk(const Model& m, std::size_t index, const std::vector<Vec2>& moved) const;
+  void write_files(const Model& m, std::size_t index, const std::vector<JointRecord>& joints,
+                   const std::vector<Vec2>& moved) const;
+  void write_vtk(const Model& m, std::size_t index, const std::vector<JointRecord>& joints,
+                 const std::vector<Vec2>& moved) const;
   double distance_to_wall(const Vec2& p) const;
   std::vector<std::string> columns() const;
   // A contact's slip and opening since the reference (from zero for a contact made since).
