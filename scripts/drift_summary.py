@@ -3,7 +3,8 @@
 table, stage by stage: text for a terminal, or an HTML table (--html).
 
 Usage: /usr/bin/python3 scripts/drift_summary.py RUN_DIR [--html]
-Standard library only, so that it runs wherever the run did.
+Standard library only, so that it runs wherever the run did; its readers of the drift files
+(read_drift_csv, num) serve scripts/plot_drift_compare.py too.
 """
 import csv
 import html
@@ -12,12 +13,14 @@ import os
 import sys
 
 
-def rows(path):
+def read_drift_csv(path):
+    """The rows of a drift/*.csv file (events, contacts, fallen blocks), its # lines skipped."""
     with open(path) as f:
         return list(csv.DictReader(line for line in f if not line.startswith("#")))
 
 
 def num(r, k):
+    """Column k of row r as a number; NaN where it is missing or not a number."""
     try:
         return float(r[k])
     except (KeyError, ValueError):
@@ -40,7 +43,7 @@ def main(argv):
     head = ["stage", "kind", "largest slip near the drift [mm]", "fallen blocks (area m2)",
             "k_xx, k_yy x reference", "convergence vertical / horizontal [mm]", "loosened zone [m]"]
     table = []
-    for r in rows(path):
+    for r in read_drift_csv(path):
         fallen = int(num(r, "fallen_blocks")) if not math.isnan(num(r, "fallen_blocks")) else 0
         table.append([
             r["name"], r["kind"], mm(num(r, "max_slip_near_m")),

@@ -23,6 +23,9 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from drift_summary import num, read_drift_csv  # noqa: E402  (the drift files' readers)
+
 LABELS = {
     "mohr_coulomb": "Mohr-Coulomb",
     "barton_bandis": "Barton-Bandis",
@@ -37,26 +40,6 @@ def label(v):
     return LABELS.get(v, v)
 
 
-def read_events(path):
-    rows = []
-    with open(path) as f:
-        lines = [ln for ln in f if not ln.startswith("#")]
-    for r in csv.DictReader(lines):
-        rows.append(r)
-    return rows
-
-
-def num(r, k):
-    try:
-        return float(r[k])
-    except (KeyError, ValueError):
-        return math.nan
-
-
-def read_contacts(path):
-    with open(path) as f:
-        lines = [ln for ln in f if not ln.startswith("#")]
-    return list(csv.DictReader(lines))
 
 
 def run_status(run):
@@ -118,7 +101,7 @@ def main():
         if not os.path.exists(ev):
             problems.append(f"{label(v)}: no results ({run}/drift/events.csv missing; run status: {status})")
             continue
-        rows = read_events(ev)
+        rows = read_drift_csv(ev)
         if status != "finished":
             problems.append(f"{label(v)}: the run ended '{status}' after stage '{rows[-1]['name']}' "
                             f"(see {os.path.join(out, 'logs', v + '.log')}); its rows stop there")
@@ -178,7 +161,7 @@ def main():
     for v, rows in data:
         r = rows[-1]
         path = os.path.join(out, v, "drift", f"contacts_{r['stage']}_{r['name']}.csv")
-        contacts.append(read_contacts(path) if os.path.exists(path) else [])
+        contacts.append(read_drift_csv(path) if os.path.exists(path) else [])
         last_files.append(path)
     # One colour scale for all maps, to the 99th percentile of every model's slips (one block's
     # metre-scale slide would otherwise leave every other contact the same colour); the
