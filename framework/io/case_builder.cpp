@@ -453,6 +453,14 @@ void CaseBuilder::drift(const DriftInput& s) {
                        c_.stages[excavated].name + "'); the reference must be that stage or a later one");
     d.reference_stage = k;
   }
+  // A drift study is the response to earthquakes: with none after the reference it would report
+  // only returns to equilibrium, which `rockdem run` without [drift] does as well.
+  bool any_event = false;
+  for (std::size_t k = d.reference_stage + 1; k < c_.stages.size(); ++k) any_event = any_event || !c_.stages[k].motions.empty();
+  if (!any_event)
+    throw InputError(s.where + ": no earthquake after stage '" + c_.stages[d.reference_stage].name +
+                     "', the study's reference: add a stage with motion = \"...\" (a [[motions]] entry) after it, "
+                     "or remove [drift]; stages: " + stage_list());
   d.enabled = true;
   d.opening = s.opening;
   d.outline.clear();

@@ -62,6 +62,19 @@ void CaseBuilder::add_motion(const MotionSpec& s) {
     throw InputError(s.where + ": a motion named '" + s.name + "' is defined twice");
   try {
     const seismic::GroundMotion record = load_record(s);
+    // Strong-motion records are sampled every 0.005 to 0.02 s: their motion reaches 10 to 25 Hz.
+    // A record sampled coarser than 0.05 s (below 10 Hz) cannot describe an earthquake: most often
+    // its time column or `dt` is in another unit (ms read as s), which would also stretch the
+    // event to hours of simulated time.
+    constexpr double kCoarsestRecord = 0.05;
+    if (record.dt > kCoarsestRecord) {
+      const double carried = mesh_limit(c_.model, s.zones_per_wavelength).frequency;
+      throw InputError(s.where + ": the record is sampled every " + format_quantity(record.dt, Dimension::time) +
+                       " (it carries nothing above " + hz(0.5 / record.dt) + "), too coarse for an earthquake record " +
+                       "(0.005 to 0.02 s, content up to 10-25 Hz" +
+                       (carried > 0.0 ? "; the mesh here carries up to " + hz(carried) : std::string()) +
+                       "). Check the time column's unit or `dt` (milliseconds read as seconds?)");
+    }
     seismic::DisplacementProcessing p = s.processing;
     seismic::InputMotion motion = seismic::make_input_motion(record, p, s.scaling);
     // What the model can carry: a tenth (by default) of the shortest shear wavelength per zone.
