@@ -3,7 +3,7 @@
 # equilibrium than the study's 1e-5, so that "no motion" can be told from the equilibrium's own
 # residual); a stage with the events' boundaries and damping but no input, as long as an event,
 # before the two events; and the energy terms recorded. --quiet-only: the run ends after that
-# stage (no events, no [drift] results, which need an earthquake).
+# stage (no events, and no [drift] table: the check reads the histories and checkpoints).
 import re, sys
 src, dst = sys.argv[1:3]
 quiet_only = "--quiet-only" in sys.argv[3:]
