@@ -52,6 +52,6 @@ void LinearElastic::update(const Params& p, State& s, const JointKinematics& k, 
 }  // namespace rockdem
 
 ROCKDEM_REGISTER_JOINT_LAW(rockdem::LinearElastic,
-                           "linear elastic joint with no strength (glued: tension as compression, never slips or opens); "
+                           "linear elastic joint with no strength (never slips; opens freely, no tension); "
                            "the reference for what the other laws accumulate",
                            "Goodman, Taylor & Brekke (1968), the joint element's elastic stiffnesses")
