@@ -3,6 +3,7 @@
 // (framework/lab/direct_shear_specimen.hpp).
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
@@ -18,6 +19,7 @@
 #include "framework/app/cli_contract.hpp"
 #include "framework/core/error.hpp"
 #include "framework/core/interrupt.hpp"
+#include "framework/io/checkpoint.hpp"
 #include "framework/io/output_folder.hpp"
 #include "framework/io/toml_values.hpp"
 #include "framework/core/params.hpp"
@@ -129,18 +131,43 @@ int run_with_manifest(Case& c, const fs::path& dir, bool quiet, const std::strin
   return 0;
 }
 
+// A restart into the folder of the run it continues: what that run wrote and this one will write
+// again (history, manifest, case copy, final and interrupted states, records, checkpoints of the
+// stages still to run, figures) moves into before_restart_<n>/, so nothing is overwritten. The
+// checkpoints and applied motions of the completed stages stay (a restart can go on from them
+// again), and so do vtk/
+// (the series is continued from the restart time), drift/ (rewritten from the rows the
+// checkpoint carries) and joints/. The checkpoint restarted from is copied, not moved.
+void set_earlier_run_aside(const fs::path& dir, const std::string& restart) {
+  if (!fs::exists(dir / "manifest.json")) return;  // an empty folder: nothing came before
+  const auto extra = read_checkpoint_scalars(restart);
+  const auto it = extra.find("stages_completed");
+  const long completed = it == extra.end() ? 0 : static_cast<long>(it->second);
+  int n = 1;
+  while (fs::exists(dir / ("before_restart_" + std::to_string(n)))) ++n;
+  const fs::path aside = dir / ("before_restart_" + std::to_string(n));
+  std::error_code ec;
+  const fs::path from = fs::weakly_canonical(restart, ec);
+  std::vector<fs::path> entries;
+  for (const auto& e : fs::directory_iterator(dir)) entries.push_back(e.path());
+  fs::create_directory(aside);
+  for (const auto& p : entries) {
+    const std::string name = p.filename().string();
+    if (name == "vtk" || name == "drift" || name == "joints" || name.rfind("before_restart_", 0) == 0) continue;
+    // Checkpoints and applied ground motions of the completed stages stay (numbered by stage).
+    if (name.rfind("stage_", 0) == 0 && p.extension() == ".h5" && std::atol(name.c_str() + 6) <= completed) continue;
+    if (name.rfind("motion_", 0) == 0 && std::atol(name.c_str() + 7) <= completed) continue;
+    if (fs::weakly_canonical(p, ec) == from) fs::copy_file(p, aside / name);
+    else fs::rename(p, aside / name);
+  }
+}
+
 // The output folder of a run: refused if it holds something else (unless --overwrite), the
-// manifest of what came before kept on a restart, and this run's manifest written.
+// earlier run's files set aside on a restart, and this run's manifest written.
 void prepare_run_folder(const fs::path& dir, const std::string& restart, bool overwrite, bool use_default,
                         const std::string& file, const Case& c, Manifest& m) {
   prepare_output_folder(dir, !restart.empty() ? FolderUse::resume : overwrite ? FolderUse::overwrite : FolderUse::fresh, "--out");
-  // A restart continues this folder's run: the manifest of what came before is kept beside
-  // the new one (manifest_before_restart_<n>.json), not overwritten.
-  if (!restart.empty() && fs::exists(dir / "manifest.json")) {
-    int n = 1;
-    while (fs::exists(dir / ("manifest_before_restart_" + std::to_string(n) + ".json"))) ++n;
-    fs::copy_file(dir / "manifest.json", dir / ("manifest_before_restart_" + std::to_string(n) + ".json"));
-  }
+  if (!restart.empty()) set_earlier_run_aside(dir, restart);
   m.command_line = command_line();
   m.case_file = use_default ? std::string("(built-in default case)") : file;
   m.case_text = use_default ? std::string(kDefaultCaseText) : read_text(file);
@@ -247,6 +274,8 @@ const CommandRegistrar reg{Command{
         if (!restart->empty() && !fs::exists(*restart))
           throw InputError("--restart " + *restart + ": checkpoint file does not exist");
         if (!restart->empty() && *overwrite) throw InputError("--restart and --overwrite: a restart continues a folder, give one of them");
+        // A restart the case cannot go on from is refused before the folder is touched.
+        if (!restart->empty()) check_restart(c, *restart, comm.root());
         Manifest m;
         // Process 0 prepares the folder; a refusal there stops every process.
         std::string refused;

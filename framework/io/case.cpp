@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 
 #include "framework/core/did_you_mean.hpp"
 #include "framework/core/error.hpp"
@@ -15,9 +17,25 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Each entry goes to the builder as soon as it is read, so that mistakes in different entries
-// are reported in the file's order of tables and entries, as when reading and building were one
-// pass (within one entry, what the reader checks comes before what the builder checks).
+// The case as read, for a restart to compare with (case_comparison.hpp): the parsed file, plus
+// a table `--joint` with the text of each --joint file by joint name.
+std::string source_text(const toml::table& root, const std::map<std::string, std::string>& joint_files) {
+  toml::table t = root;
+  if (!joint_files.empty()) {
+    toml::table j;
+    for (const auto& [name, f] : joint_files) {
+      std::ifstream is(f);
+      std::ostringstream text;
+      text << is.rdbuf();
+      j.insert(name, text.str());
+    }
+    t.insert("--joint", std::move(j));
+  }
+  std::ostringstream os;
+  os << t;
+  return os.str();
+}
+
 Case build(const toml::table& root, const CaseReader& r, const std::map<std::string, std::string>& joint_files = {}) {
   CaseBuilder b(r.file(), r.top_level(root));
   const auto* model = root["model"].as_table();
@@ -49,7 +67,9 @@ Case build(const toml::table& root, const CaseReader& r, const std::map<std::str
   if (const auto* t = root["direct_shear"].as_table()) b.direct_shear(r.direct_shear(*t));
   if (const auto* t = root["drift"].as_table()) b.drift(r.drift(*t));
   if (const auto* t = root["output"].as_table()) b.output(r.output(*t));
-  return b.finish();
+  Case c = b.finish();
+  c.source_toml = source_text(root, joint_files);
+  return c;
 }
 
 Case parse(const std::string& text, const std::string& name, const std::string& base_dir, bool from_file,

@@ -115,6 +115,9 @@ struct Case {
   DriftSpec drift;
   OutputSpec output;
   std::vector<std::string> block_names;
+  // The case as it was read (TOML; --joint files in a table `--joint`), kept in checkpoints: a
+  // restart compares it with its own (case_comparison.hpp).
+  std::string source_toml;
   int block_index(const std::string& name, const std::string& where) const;
 };
 

@@ -160,7 +160,7 @@ void write_contact_store(hid_t grp, const ContactStore& store, const std::string
 }  // namespace
 
 void write_checkpoint(const Model& m, const std::string& path, const CheckpointScalars& extra,
-                      const CheckpointArrays& arrays) {
+                      const CheckpointArrays& arrays, const CheckpointTexts& texts) {
   const std::string tmp = path + ".tmp";
   {
     h5::QuietErrors quiet;
@@ -187,6 +187,10 @@ void write_checkpoint(const Model& m, const std::string& path, const CheckpointS
     if (!arrays.empty()) {
       h5::Handle grp = h5::create_group(file, "arrays", f);
       for (const auto& [k, v] : arrays) h5::write_dataset(grp, k, v, v.size(), 1, f);
+    }
+    if (!texts.empty()) {
+      h5::Handle grp = h5::create_group(file, "texts", f);
+      for (const auto& [k, v] : texts) h5::write_dataset(grp, k, std::vector<std::uint8_t>(v.begin(), v.end()), v.size(), 1, f);
     }
     h5::check_status(H5Fflush(file, H5F_SCOPE_LOCAL), "cannot flush " + tmp);
   }
@@ -463,27 +467,56 @@ herr_t collect_link_name(hid_t, const char* name, const H5L_info_t*, void* data)
   static_cast<std::vector<std::string>*>(data)->push_back(name);
   return 0;
 }
-}  // namespace
 
-CheckpointArrays read_checkpoint_arrays(const std::string& path) {
-  CheckpointArrays out;
-  h5::QuietErrors quiet;
+// Opens a checkpoint for the reads below (InputError naming it when it is not one).
+h5::Handle open_checkpoint(const std::string& path) {
+  if (!std::filesystem::exists(path) || H5Fis_hdf5(path.c_str()) <= 0) throw InputError("checkpoint '" + path + "' is not an HDF5 file");
   h5::Handle file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
   if (!file.valid()) throw InputError("cannot open checkpoint '" + path + "'");
-  if (H5Lexists(file, "arrays", H5P_DEFAULT) <= 0) return out;
-  h5::Handle grp = h5::open_group(file, "arrays", path);
+  return file;
+}
+
+// Every dataset of `group` (none when the checkpoint has no such group), read as the HDF5 `type`
+// into a container C (std::vector<double> of doubles, std::string of the bytes of a text).
+template <class C>
+std::map<std::string, C> read_group(const std::string& path, const char* group, hid_t type) {
+  std::map<std::string, C> out;
+  h5::QuietErrors quiet;
+  h5::Handle file = open_checkpoint(path);
+  if (H5Lexists(file, group, H5P_DEFAULT) <= 0) return out;
+  h5::Handle grp = h5::open_group(file, group, path);
   std::vector<std::string> names;
   hsize_t idx = 0;
   H5Literate(grp, H5_INDEX_NAME, H5_ITER_INC, &idx, collect_link_name, &names);
   for (const auto& n : names) {
     h5::Handle ds(H5Dopen2(grp, n.c_str(), H5P_DEFAULT), H5Dclose);
     const auto [rows, cols] = h5::dataset_shape(ds);
-    std::vector<double> v(rows * cols);
+    C v(rows * cols, typename C::value_type{});
     if (!v.empty())
-      h5::check_status(H5Dread(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()),
-                       "checkpoint '" + path + "': cannot read /arrays/" + n);
+      h5::check_status(H5Dread(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()),
+                       "checkpoint '" + path + "': cannot read /" + group + "/" + n);
     out[n] = std::move(v);
   }
+  return out;
+}
+}  // namespace
+
+CheckpointArrays read_checkpoint_arrays(const std::string& path) {
+  return read_group<std::vector<double>>(path, "arrays", H5T_NATIVE_DOUBLE);
+}
+
+CheckpointTexts read_checkpoint_texts(const std::string& path) { return read_group<std::string>(path, "texts", H5T_NATIVE_UINT8); }
+
+CheckpointScalars read_checkpoint_scalars(const std::string& path) {
+  CheckpointScalars out;
+  h5::QuietErrors quiet;
+  h5::Handle file = open_checkpoint(path);
+  if (H5Lexists(file, "extra", H5P_DEFAULT) <= 0) return out;
+  h5::Handle grp = h5::open_group(file, "extra", path);
+  std::vector<std::string> keys;
+  hsize_t idx = 0;
+  H5Aiterate2(grp, H5_INDEX_NAME, H5_ITER_INC, &idx, collect_attr_name, &keys);
+  for (const auto& k : keys) out[k] = h5::read_attr<double>(grp, k, path);
   return out;
 }
 

@@ -29,12 +29,20 @@ using CheckpointScalars = std::map<std::string, double>;
 // forces a quiet boundary holds and a free-field column's motion), in the group /arrays.
 using CheckpointArrays = std::map<std::string, std::vector<double>>;
 
+// Text that lives outside the Model (the case as it was run, which a restart compares with its
+// own), in the group /texts as byte datasets (no attribute size limit; h5py: bytes(...).decode()).
+using CheckpointTexts = std::map<std::string, std::string>;
+
 // Writes to `path` + ".tmp" and renames, so an existing checkpoint survives a crash mid-write.
 void write_checkpoint(const Model& m, const std::string& path, const CheckpointScalars& extra = {},
-                      const CheckpointArrays& arrays = {});
+                      const CheckpointArrays& arrays = {}, const CheckpointTexts& texts = {});
 
 // The arrays of a checkpoint (none for checkpoints without the group).
 CheckpointArrays read_checkpoint_arrays(const std::string& path);
+// The caller scalars of a checkpoint (/extra), without reading the model.
+CheckpointScalars read_checkpoint_scalars(const std::string& path);
+// The texts of a checkpoint (none for checkpoints without the group).
+CheckpointTexts read_checkpoint_texts(const std::string& path);
 
 // Restores the state written by write_checkpoint into `m` and returns the extra scalars.
 CheckpointScalars read_checkpoint(Model& m, const std::string& path);

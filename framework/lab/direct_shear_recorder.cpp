@@ -71,6 +71,45 @@ void DirectShearRecorder::sample(History& h) {
   }
 }
 
+std::map<std::string, std::vector<double>> DirectShearRecorder::saved_state() const {
+  std::map<std::string, std::vector<double>> a;
+  a["lab_record.t0"] = {t0_};
+  auto& t = a["lab_record.time_s"];
+  auto& st = a["lab_record.stage"];
+  auto& sd = a["lab_record.shear_disp_mm"];
+  auto& ss = a["lab_record.shear_stress_MPa"];
+  auto& nd = a["lab_record.normal_disp_mm"];
+  auto& ns = a["lab_record.normal_stress_MPa"];
+  for (const MeasurementRow& r : record_.rows) {
+    t.push_back(r.time_s);
+    st.push_back(r.stage);
+    sd.push_back(r.shear_disp_mm);
+    ss.push_back(r.shear_stress_MPa);
+    nd.push_back(r.normal_disp_mm);
+    ns.push_back(r.normal_stress_MPa);
+  }
+  return a;
+}
+
+void DirectShearRecorder::restore_state(const std::map<std::string, std::vector<double>>& a, const std::string& file) {
+  const auto t0 = a.find("lab_record.t0");
+  if (t0 == a.end()) return;
+  const char* names[6] = {"lab_record.time_s", "lab_record.stage", "lab_record.shear_disp_mm", "lab_record.shear_stress_MPa",
+                          "lab_record.normal_disp_mm", "lab_record.normal_stress_MPa"};
+  const std::vector<double>* col[6];
+  for (int k = 0; k < 6; ++k) {
+    const auto it = a.find(names[k]);
+    if (it == a.end() || (k > 0 && it->second.size() != col[0]->size()))
+      throw InputError(file + ": its joint test record is incomplete (/arrays/" + names[k] + ")");
+    col[k] = &it->second;
+  }
+  t0_ = t0->second.at(0);
+  record_.rows.clear();
+  for (std::size_t i = 0; i < col[0]->size(); ++i)
+    record_.rows.push_back(MeasurementRow{(*col[0])[i], static_cast<int>((*col[1])[i]), (*col[5])[i], (*col[2])[i], (*col[3])[i],
+                                          (*col[4])[i]});
+}
+
 fs::path DirectShearRecorder::write(const fs::path& dir) {
   return write_record(dir / (c_.direct_shear.specimen + ".csv"), "");
 }

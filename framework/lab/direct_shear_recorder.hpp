@@ -4,6 +4,7 @@
 // the run's history, sampled with it, and the rows of the joint test record, written at the end.
 #include <cmath>
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,11 @@ class DirectShearRecorder {
   void sample(History& h);
 
   MeasurementFile& record() { return record_; }
+  // The record so far and the origin of its time, for a stage checkpoint; a restarted run puts
+  // them back and writes the whole record, as the uninterrupted run does. (Displacements are
+  // measured from each test stage's start, which checkpoints at stage ends never fall inside.)
+  std::map<std::string, std::vector<double>> saved_state() const;
+  void restore_state(const std::map<std::string, std::vector<double>>& a, const std::string& file);
   // Write the record with its metadata to <dir>/<specimen>.csv, or, for a run that stopped, to
   // <dir>/<specimen>.incomplete.csv marked as such; they return the path, or an empty path (and
   // write nothing) when no test stage was sampled.

@@ -160,4 +160,78 @@ void EnergyBalance::after_step(const Model& m, const EnergyMasses& masses, doubl
   started_ = true;
 }
 
+namespace {
+
+template <int N, class V>
+void put_owned(std::vector<double>& out, std::size_t i, const V& v) {
+  for (int d = 0; d < N; ++d) out[N * i + static_cast<std::size_t>(d)] = v[d];
+}
+
+template <int N, class V>
+void take(std::vector<V>& to, const std::vector<double>& from) {
+  to.resize(from.size() / N);
+  for (std::size_t i = 0; i < to.size(); ++i)
+    for (int d = 0; d < N; ++d) to[i][d] = from[N * i + static_cast<std::size_t>(d)];
+}
+
+}  // namespace
+
+std::map<std::string, std::vector<double>> EnergyBalance::saved_items(const Model& m) const {
+  std::map<std::string, std::vector<double>> a;
+  if (!on_ || !started_) return a;
+  a["energy.dt_prev"] = {dt_prev_};
+  const std::size_t ng = m.gp.size(), nb = m.blocks.size(), nz = m.zones.size();
+  if (r_prev_.size() != ng || f_bc_prev_.size() != ng || rb_prev_.size() != nb || sig_prev_.size() != nz) return a;
+  auto& r = a["energy.r_prev"] = std::vector<double>(2 * ng, 0.0);
+  auto& fb = a["energy.f_bc_prev"] = std::vector<double>(2 * ng, 0.0);
+  const bool zone = f_zone_prev_.size() == ng;
+  std::vector<double> fz(zone ? 2 * ng : 0, 0.0);
+  for_owned_gridpoints(m, [&](int gi) {
+    const auto i = static_cast<std::size_t>(gi);
+    put_owned<2>(r, i, r_prev_[i]);
+    put_owned<2>(fb, i, f_bc_prev_[i]);
+    if (zone) put_owned<2>(fz, i, f_zone_prev_[i]);
+  });
+  if (zone) a["energy.f_zone_prev"] = std::move(fz);
+  auto& rb = a["energy.rb_prev"] = std::vector<double>(3 * nb, 0.0);
+  for_owned_blocks(m, [&](int bi) { put_owned<3>(rb, static_cast<std::size_t>(bi), rb_prev_[static_cast<std::size_t>(bi)]); });
+  auto& sg = a["energy.sig_prev"] = std::vector<double>(3 * nz, 0.0);
+  auto& ep = a["energy.eps_prev"] = std::vector<double>(3 * nz, 0.0);
+  for_owned_zones(m, [&](int zi) {
+    const auto z = static_cast<std::size_t>(zi);
+    put_owned<3>(sg, z, sig_prev_[z]);
+    put_owned<3>(ep, z, eps_prev_[z]);
+  });
+  return a;
+}
+
+bool EnergyBalance::restore(const Model& m, const std::map<std::string, std::vector<double>>& a, const EnergyTerms& terms,
+                            double scale) {
+  const auto get = [&](const char* name, std::size_t size) -> const std::vector<double>* {
+    const auto it = a.find(name);
+    return it != a.end() && it->second.size() == size ? &it->second : nullptr;
+  };
+  const std::size_t ng = m.gp.size(), nb = m.blocks.size(), nz = m.zones.size();
+  const auto* r = get("energy.r_prev", 2 * ng);
+  const auto* fb = get("energy.f_bc_prev", 2 * ng);
+  const auto* rb = get("energy.rb_prev", 3 * nb);
+  const auto* sg = get("energy.sig_prev", 3 * nz);
+  const auto* ep = get("energy.eps_prev", 3 * nz);
+  const auto* fz = get("energy.f_zone_prev", 2 * ng);
+  const auto* dt = get("energy.dt_prev", 1);
+  if (!r || !fb || !rb || !sg || !ep || !dt) return false;
+  dt_prev_ = (*dt)[0];
+  take<2>(r_prev_, *r);
+  take<2>(f_bc_prev_, *fb);
+  take<3>(rb_prev_, *rb);
+  take<3>(sig_prev_, *sg);
+  take<3>(eps_prev_, *ep);
+  if (fz) take<2>(f_zone_prev_, *fz);
+  else f_zone_prev_.clear();
+  t_ = terms;
+  scale_ = scale;
+  on_ = started_ = true;
+  return true;
+}
+
 }  // namespace rockdem

@@ -12,6 +12,8 @@
 // strain work as 1/2 (sigma(n-1) + sigma(n)) : (eps(n) - eps(n-1)). With the half-step kinetic
 // energy and F(n).v dt the balance would wobble by a fraction of order omega dt of the energy in
 // a stiff contact, which is about all of it while a block bounces.
+#include <map>
+#include <string>
 #include <vector>
 
 #include "framework/model/model.hpp"
@@ -53,6 +55,17 @@ class EnergyBalance {
   // The accounting starts at the end of the next completed step (that whole step is the reference).
   void start() { on_ = true; started_ = false; t_ = EnergyTerms{}; }
   const EnergyTerms& terms() const { return t_; }
+  double scale() const { return scale_; }
+
+  // For a checkpoint: what the next step's trapezoids need from the last one, per gridpoint,
+  // rigid block and zone (the items this process owns; zero elsewhere, so that the processes'
+  // arrays add up to the whole model's), and whether the reference step has been taken. Empty
+  // when not tracking. The terms themselves are saved by the engine (summed over the processes).
+  std::map<std::string, std::vector<double>> saved_items(const Model& m) const;
+  // Puts the state back, tracking, with `terms` and `scale` (the whole model's on one process,
+  // zero terms on the others: the processes' terms add up to the whole model's). False, with
+  // nothing changed, when `a` holds no energy state or its arrays do not fit the model.
+  bool restore(const Model& m, const std::map<std::string, std::vector<double>>& a, const EnergyTerms& terms, double scale);
 
   // Calls from Engine::step(), in this order; each returns at once when not tracking.
   void after_zone_forces(const Model& m, double beta);  // g.f holds the zone forces alone

@@ -336,6 +336,63 @@ void Engine::contact_forces() {
   }
 }
 
+std::map<std::string, std::vector<double>> Engine::saved_state() const {
+  std::vector<double> force(2 * m_.blocks.size(), 0.0);
+  for (std::size_t b = 0; b < m_.blocks.size() && b < block_contact_force_.size(); ++b)
+    if (m_.part.owns(static_cast<int>(b))) {
+      force[2 * b] = block_contact_force_[b].x();
+      force[2 * b + 1] = block_contact_force_[b].y();
+    }
+  // One process holds each block's value and the others zero, so the sum is that value exactly.
+  if (comm_.size() > 1) comm_.sum(force.data(), static_cast<int>(force.size()));
+  std::map<std::string, std::vector<double>> a{
+      {"engine.block_contact_force", std::move(force)},
+      {"engine.step_values", {ratio_, block_ratio_, static_cast<double>(worst_block_), max_speed_}}};
+  // The energy balance, when something tracks it, goes on from its terms (the whole model's).
+  auto items = energy_.saved_items(m_);
+  if (comm_.size() > 1) {
+    double tracked = items.empty() ? 0.0 : 1.0;
+    comm_.sum(&tracked, 1);  // the same on every process (tracking starts at the same step)
+    for (auto& [name, v] : items) comm_.sum(v.data(), static_cast<int>(v.size()));
+    if (!items.empty()) items["energy.dt_prev"][0] /= tracked;  // every process held the same step
+  }
+  if (!items.empty()) {
+    const EnergyTerms& t = comm_.size() == 1 ? energy_.terms() : energy_sum_;
+    items["energy.terms"] = {t.kinetic,       t.strain, t.contact, t.gravity_work,  t.boundary_work,
+                             t.slip,          t.damping, t.kinetic_start, t.contact_start, t.error};
+    items["energy.scale"] = {comm_.size() == 1 ? energy_.scale() : energy_scale_};
+    a.merge(items);
+  }
+  return a;
+}
+
+void Engine::restore_state(const std::map<std::string, std::vector<double>>& a, const std::string& file) {
+  const auto f = a.find("engine.block_contact_force");
+  const auto v = a.find("engine.step_values");
+  if (f == a.end() || v == a.end()) return;
+  if (f->second.size() != 2 * m_.blocks.size() || v->second.size() != 4)
+    throw InputError(file + ": the engine state it holds is for " + std::to_string(f->second.size() / 2) +
+                     " blocks, the model has " + std::to_string(m_.blocks.size()));
+  block_contact_force_.resize(m_.blocks.size());
+  for (std::size_t b = 0; b < m_.blocks.size(); ++b) block_contact_force_[b] = Vec2(f->second[2 * b], f->second[2 * b + 1]);
+  ratio_ = v->second[0];
+  block_ratio_ = v->second[1];
+  worst_block_ = static_cast<int>(v->second[2]);
+  max_speed_ = v->second[3];
+  const auto t = a.find("energy.terms");
+  const auto sc = a.find("energy.scale");
+  if (t == a.end() || sc == a.end() || t->second.size() != 10 || sc->second.size() != 1) return;
+  const auto& x = t->second;
+  const EnergyTerms whole{x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], x[8], x[9]};
+  // The terms are sums over the processes: one process carries the whole model's so far.
+  const EnergyTerms mine = comm_.root() ? whole : EnergyTerms{};
+  if (!energy_.restore(m_, a, mine, sc->second[0]))
+    throw InputError(file + ": its energy-balance state does not fit the model (" + std::to_string(m_.gp.size()) + " gridpoints, " +
+                     std::to_string(m_.zones.size()) + " zones)");
+  energy_sum_ = whole;
+  energy_scale_ = sc->second[0];
+}
+
 Vec2 Engine::contact_force_on(int block) const {
   return block < static_cast<int>(block_contact_force_.size()) ? block_contact_force_[block] : Vec2::Zero();
 }

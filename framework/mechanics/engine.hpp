@@ -4,6 +4,7 @@
 // zone stresses -> contact forces through the joint laws -> external forces -> damping ->
 // velocities and positions. The same code runs whatever the decomposition (it never sees MPI).
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -81,6 +82,15 @@ class Engine {
   // When decomposed, every process must call it first at the same step (the terms are summed
   // over the processes every step from then on).
   const EnergyTerms& energy() const;
+
+  // What the last step left outside the Model that histories read (the unbalanced ratios, the
+  // largest speed, the contact force on every block), for a checkpoint: a run restarted from it
+  // samples the same values before its first step as the uninterrupted run did. A collective
+  // call when decomposed (each block's force comes from the process owning it).
+  std::map<std::string, std::vector<double>> saved_state() const;
+  // Puts it back (a checkpoint without it leaves the engine as it is); InputError naming `file`
+  // when it does not fit.
+  void restore_state(const std::map<std::string, std::vector<double>>& a, const std::string& file);
 
   const ModelSnapshot& last_good() const { return last_good_; }
   ModelSnapshot snapshot() const;

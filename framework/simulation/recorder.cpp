@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "framework/core/error.hpp"
+
 namespace rockdem {
 
 Recorder::Recorder(Case& c, const Engine& e, const std::filesystem::path& history_file) : c_(c), e_(e) {
@@ -37,6 +39,38 @@ void Recorder::sample() {
   if (direct_shear_) direct_shear_->sample(h_);
   h_.commit(m.time, m.step);
   if (collected && comm.root() && (state_parts_ & kContactState)) m.contacts.restore(std::move(local));
+}
+
+std::map<std::string, std::vector<double>> Recorder::saved_state() const {
+  std::map<std::string, std::vector<double>> a;
+  a["history.time"].assign(h_.times().begin(), h_.times().end());
+  a["history.step"].assign(h_.steps().begin(), h_.steps().end());
+  for (std::size_t i = 0; i < h_.series_count(); ++i) {
+    const auto v = h_.values(static_cast<int>(i));
+    a["history." + h_.info(static_cast<int>(i)).name].assign(v.begin(), v.end());
+  }
+  if (direct_shear_) a.merge(direct_shear_->saved_state());
+  return a;
+}
+
+void Recorder::restore_state(const std::map<std::string, std::vector<double>>& a, const std::string& file) {
+  const auto t = a.find("history.time");
+  const auto st = a.find("history.step");
+  if (t == a.end() || st == a.end()) return;  // a checkpoint written before histories travelled in them
+  std::vector<const std::vector<double>*> cols;
+  for (std::size_t i = 0; i < h_.series_count(); ++i) {
+    const std::string& name = h_.info(static_cast<int>(i)).name;
+    const auto it = a.find("history." + name);
+    if (it == a.end() || it->second.size() != t->second.size())
+      throw InputError(file + ": the checkpoint's history has no series '" + name + "' (its case recorded other histories)");
+    cols.push_back(&it->second);
+  }
+  std::vector<double> row(cols.size());
+  for (std::size_t k = 0; k < t->second.size(); ++k) {
+    for (std::size_t i = 0; i < cols.size(); ++i) row[i] = (*cols[i])[k];
+    h_.sample(t->second[k], static_cast<long>(st->second[k]), row);
+  }
+  if (direct_shear_) direct_shear_->restore_state(a, file);
 }
 
 double Recorder::value(const HistorySpec& s) const {

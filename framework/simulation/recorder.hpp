@@ -2,6 +2,8 @@
 // Sampling a running case: its named histories (and, for direct-shear cases, the joint
 // measurement's columns) into history.h5, written as the run goes.
 #include <filesystem>
+#include <map>
+#include <vector>
 #include <optional>
 #include <string>
 
@@ -18,6 +20,12 @@ class Recorder {
 
   void stage_started(int index, const std::string& name);
   void sample();
+
+  // The samples so far (and the joint test record), for a stage checkpoint; a run restarted from
+  // it begins its history with them, so that it holds the whole run as the uninterrupted one does.
+  std::map<std::string, std::vector<double>> saved_state() const;
+  // InputError naming `file` when the checkpoint's series are not this case's.
+  void restore_state(const std::map<std::string, std::vector<double>>& a, const std::string& file);
 
   void close() { h_.close(); }
   void flush() { h_.flush(); }

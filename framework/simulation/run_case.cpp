@@ -8,6 +8,7 @@
 #include <fstream>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <iomanip>
 #include <iostream>
 #include <optional>
@@ -17,6 +18,7 @@
 
 #include "framework/core/error.hpp"
 #include "framework/core/interrupt.hpp"
+#include "framework/io/case_comparison.hpp"
 #include "framework/io/checkpoint.hpp"
 #include "framework/io/vtk_output.hpp"
 #include "framework/mechanics/engine.hpp"
@@ -73,19 +75,61 @@ CheckpointScalars read_after_excavations(Case& c, const std::string& restart) {
   return extra;
 }
 
-// The stage a run begins with: the first, or after a restart the one following the stages its
-// checkpoint completed (the model state is read back from it).
-std::size_t read_restart(Case& c, const std::string& restart) {
-  if (restart.empty()) return 0;
-  const auto extra = read_after_excavations(c, restart);
+// A restart continues the run that wrote its checkpoint: the case may add or change stages that
+// had not run yet, and nothing else (a changed stiffness would make the continued run a hybrid
+// that no case describes). The differences are named, key by key.
+void check_same_case(const Case& c, const std::string& restart, std::size_t completed, bool root) {
+  const auto texts = read_checkpoint_texts(restart);
+  const auto it = texts.find("case_toml");
+  if (it == texts.end()) {
+    if (root)
+      std::cerr << "rockdem: warning: " << restart << " does not record the case that wrote it (an older rockdem wrote it); "
+                << "the case is not compared with it\n";
+    return;
+  }
+  const std::vector<std::string> diffs = restart_differences(it->second, c.source_toml, completed);
+  if (diffs.empty()) return;
+  std::string msg = restart + ": this case differs from the one that wrote the checkpoint in " + std::to_string(diffs.size()) +
+                    (diffs.size() == 1 ? " value" : " values") + " that the completed stages ran with:";
+  for (std::size_t i = 0; i < diffs.size() && i < 8; ++i) msg += "\n    " + diffs[i];
+  if (diffs.size() > 8) msg += "\n    ... and " + std::to_string(diffs.size() - 8) + " more";
+  msg += "\n  a restart may change or add only the stages still to run (from stage " + std::to_string(completed + 1) +
+         " on), with boundary conditions and motions that only they use; run the changed case from the start";
+  throw InputError(msg);
+}
+
+}  // namespace
+
+std::size_t check_restart(const Case& c, const std::string& restart, bool root) {
+  const auto extra = read_checkpoint_scalars(restart);
   if (extra.count("interrupted"))
     throw InputError(restart + ": the state of an interrupted run, kept for inspection; restarts continue from the end of "
                      "a stage (the stage_<n>_<name>.h5 files in the same folder)");
   const auto it = extra.find("stages_completed");
   if (it == extra.end() || it->second < 1 || it->second > static_cast<double>(c.stages.size()))
-    throw InputError(restart + ": not a stage checkpoint of this case (valid: the stage_<n>_<name>.h5 files a run of it writes)");
+    throw InputError(restart + ": not a checkpoint this case can go on from (valid: the stage_<n>_<name>.h5 files and "
+                     "final_state.h5 a run of it writes" +
+                     (it != extra.end() && it->second > static_cast<double>(c.stages.size())
+                          ? "; this one completed " + std::to_string(static_cast<long>(it->second)) + " stages, the case has " +
+                                std::to_string(c.stages.size())
+                          : std::string()) +
+                     ")");
   const auto first_stage = static_cast<std::size_t>(it->second);
-  if (first_stage == c.stages.size()) throw InputError(restart + ": this checkpoint ends the last stage; nothing left to run");
+  check_same_case(c, restart, first_stage, root);
+  if (first_stage == c.stages.size())
+    throw InputError(restart + ": this checkpoint ends the case's last stage ('" + c.stages.back().name +
+                     "'); nothing is left to run (add stages to the case to go on from it)");
+  return first_stage;
+}
+
+namespace {
+
+// The stage a run begins with: the first, or after a restart the one following the stages its
+// checkpoint completed (the model state is read back from it).
+std::size_t read_restart(Case& c, const std::string& restart) {
+  if (restart.empty()) return 0;
+  const std::size_t first_stage = check_restart(c, restart, false);  // rockdem run has warned already
+  read_after_excavations(c, restart);
   return first_stage;
 }
 
@@ -274,18 +318,25 @@ void write_stage_motions(const Run& r, std::size_t index) {
   if (!os) throw InputError("cannot write " + path.string());
 }
 
-// The checkpoint a restart continues from (<out>/stage_<n>_<name>.h5).
-void write_stage_checkpoint(Run& r, std::size_t index) {
-  const StageSpec& st = r.c.stages[index];
+// A checkpoint a restart continues from, after `completed` stages: the model, what the boundary
+// conditions and the engine carry between steps, the histories and records so far, and the case.
+// At a stage's end the drift results take that stage's row first (on the whole model).
+void write_restartable(Run& r, const fs::path& path, std::size_t completed, bool stage_end) {
+  CheckpointArrays engine_state = r.engine.saved_state();  // collective
   with_whole_model(r, [&] {
+    if (stage_end && r.drift) r.drift->stage_ended(r.c.model, completed - 1, r.engine.unbalanced_ratio());
     CheckpointArrays arrays = condition_states(r.engine);
-    if (r.drift) {
-      r.drift->stage_ended(r.c.model, index, r.engine.unbalanced_ratio());
-      arrays.merge(r.drift->saved_state());
-    }
-    write_checkpoint(r.c.model, (r.out / ("stage_" + std::to_string(index + 1) + "_" + st.name + ".h5")).string(),
-                     {{"stages_completed", static_cast<double>(index + 1)}}, arrays);
+    arrays.merge(engine_state);
+    arrays.merge(r.rec.saved_state());
+    if (r.drift) arrays.merge(r.drift->saved_state());
+    write_checkpoint(r.c.model, path.string(), {{"stages_completed", static_cast<double>(completed)}}, arrays,
+                     {{"case_toml", r.c.source_toml}});
   });
+}
+
+// The checkpoint at the end of a stage (<out>/stage_<n>_<name>.h5).
+void write_stage_checkpoint(Run& r, std::size_t index) {
+  write_restartable(r, r.out / ("stage_" + std::to_string(index + 1) + "_" + r.c.stages[index].name + ".h5"), index + 1, true);
 }
 
 void run_stage(Run& r, const StageJointModels& joints, std::size_t index) {
@@ -380,7 +431,7 @@ Interrupted stopped_by_signal(Run& r, int sig, std::size_t stage_index) {
 
 // The outputs of a completed run, its summary and its result.
 RunResult finish(Run& r) {
-  with_whole_model(r, [&] { write_checkpoint(r.c.model, (r.out / "final_state.h5").string()); });
+  write_restartable(r, r.out / "final_state.h5", r.c.stages.size(), false);
   r.rec.close();
   DirectShearRecorder* ds = r.rec.direct_shear();
   const fs::path csv = ds && r.root() ? ds->write(r.out) : fs::path();
@@ -403,12 +454,15 @@ RunResult run_case(Case& c, const fs::path& out, bool quiet, const std::string& 
   Engine engine(c.model, c.settings, comm);
   for (auto& bc : c.conditions) engine.add_condition(std::move(bc));
   c.conditions.clear();
-  // A restart never overwrites the history of the run it continues.
-  Recorder rec(c, engine, out / (restart.empty() ? std::string("history.h5")
-                                                 : "history_from_stage_" + std::to_string(first_stage + 1) + ".h5"));
+  // A restart's history begins with the samples its checkpoint carries (an earlier history in
+  // the same folder has been moved aside: run_case.hpp).
+  Recorder rec(c, engine, out / "history.h5");
   VtkSeries vtk(out / "vtk");
   Progress progress(c, quiet);
   if (!restart.empty()) {
+    const CheckpointArrays saved = read_checkpoint_arrays(restart);
+    engine.restore_state(saved, restart);
+    rec.restore_state(saved, restart);
     restore_condition_states(engine, restart);
     vtk.resume(c.model.time);
     progress.restarted(restart, first_stage);

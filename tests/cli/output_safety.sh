@@ -50,7 +50,7 @@ PY
 # A restart continues the folder of the run it restarts (it has a manifest), no --overwrite needed.
 cp -r "$tmp/a" "$tmp/b" && rm "$tmp/b/final_state.h5"
 expect restart_same_folder 0 run "$incline" --out "$tmp/b" --restart "$tmp/b/stage_1_settle.h5" --quiet --
-grep -q '"restart_from": ".*stage_1_settle.h5"' "$tmp/b/manifest.json" && grep -q '"status": "finished"' "$tmp/b/manifest_before_restart_1.json" ||
+grep -q '"restart_from": ".*stage_1_settle.h5"' "$tmp/b/manifest.json" && grep -q '"status": "finished"' "$tmp/b/before_restart_1/manifest.json" ||
   { echo "FAIL restart: manifest not updated or the first run's manifest not kept"; fail=1; }
 expect restart_foreign_folder 2 run "$incline" --out "$tmp/mine" --restart "$tmp/b/stage_1_settle.h5" --quiet -- "manifest.json"
 
