@@ -482,6 +482,25 @@ void read_test_stages(const Reader& r, const toml::table& t, const std::string& 
 
 std::string CaseReader::top_level(const toml::table& root) const {
   const Reader r{file_, base_dir_};
+  // A file with tables of both dialects (a laboratory-test case's [specimen], [joint], [[stage]];
+  // a DEM case's [[blocks]], [[joints]], [[stages]]) gets this rather than "unknown key", which
+  // would suggest renaming its tables one by one.
+  std::string lab, dem;
+  for (const char* key : {"specimen", "element", "dem", "joint", "stage"})
+    if (root.contains(key)) lab += (lab.empty() ? "[" : ", [") + std::string(key) + "]";
+  for (const char* key : {"blocks", "rock_mass", "joints", "stages", "boundary", "histories"})
+    if (root.contains(key)) dem += (dem.empty() ? "[" : ", [") + std::string(key) + "]";
+  const bool lab_only = root.contains("specimen") || root.contains("element") || root.contains("dem");
+  if (lab_only && dem.empty())  // not read as a laboratory-test case: [joint] or [[stage]] is missing
+    throw InputError(file_ + ": has tables of a laboratory-test case file (" + lab + ") but no " +
+                     (root.contains("joint") ? "[[stage]]" : root.contains("stage") ? "[joint]" : "[joint] and no [[stage]]") +
+                     " table, which it needs (e.g. cases/direct_shear/test09_mohr_coulomb.toml; docs/case-files.md)");
+  if (lab_only)
+    throw InputError(file_ + ": has tables of a laboratory-test case file (" + lab + ") and of a DEM case file (" + dem +
+                     "); a file is one or the other: a laboratory-test case has [specimen], [joint] and [[stage]] (e.g. "
+                     "cases/direct_shear/test09_mohr_coulomb.toml, for `rockdem element`, `compare --case` and `run`), a DEM "
+                     "case [[blocks]] or [rock_mass], [[joints]] and [[stages]] (e.g. cases/sliding_block/incline.toml, for "
+                     "`rockdem run`); docs/case-files.md");
   r.check_keys(root, "case", {"title", "model", "time", "materials", "joints", "blocks", "rock_mass", "boundary",
                                "stages", "histories", "direct_shear", "output", "in_situ", "motions", "drift"});
   std::string title = r.str(root, "title", "case", std::string("untitled"));

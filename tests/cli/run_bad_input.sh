@@ -39,6 +39,18 @@ expect() {
 variant syntax 's/^rounding = "0.5 mm"/rounding = "0.5 mm/'
 expect syntax 2 "syntax.toml:" "TOML syntax error"
 
+# The two case-file dialects mixed: a DEM case with a laboratory-test table, and a laboratory-test
+# case whose stages are written the DEM way ([[stages]]): both named, with an example of each.
+{ cat "$base"; printf '\n[specimen]\nname = "test09"\n'; } > "$tmp/mixed.toml"
+expect mixed 2 "mixed.toml: has tables of a laboratory-test case file ([specimen])" "and of a DEM case file ([blocks]" \
+  "cases/direct_shear/test09_mohr_coulomb.toml" "cases/sliding_block/incline.toml"
+sed 's/^\[\[stage\]\]/[[stages]]/; s/^\[stage\.params\]/[stages.params]/' "$src/cases/direct_shear/test09_mohr_coulomb.toml" |
+  awk '/^\[stages\.params\]/{exit} {print}' > "$tmp/lab_stages.toml"
+expect lab_stages 2 "lab_stages.toml: has tables of a laboratory-test case file" "and of a DEM case file ([stages])" \
+  "a laboratory-test case has [specimen], [joint] and [[stage]]"
+sed '/^\[\[stage\]\]/,$d' "$src/cases/direct_shear/test09_mohr_coulomb.toml" > "$tmp/lab_no_stage.toml"
+expect lab_no_stage 2 "lab_no_stage.toml: has tables of a laboratory-test case file" "but no [[stage]] table"
+
 variant unknown_key 's/^detection_tolerance = /detektion_tolerance = /'
 expect unknown_key 2 "unknown key 'detektion_tolerance'" "valid keys:" "detection_tolerance"
 
