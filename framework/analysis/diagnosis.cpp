@@ -407,17 +407,23 @@ class DiagnosisRun {
     if (!unjudged.empty()) d_.confident = false;
   }
 
-  // The ladder: the best single effect, then the best addition to the current chain, while the
-  // BIC falls. Only effects that improved the BIC alone are candidates.
+  // The ladder: the best single effect, then the best addition to the current chain, while that
+  // lowers both the BIC and the combined NRMSE the report shows. Only effects that improved the
+  // BIC alone are candidates. Every candidate tried is recorded with why it was or was not added.
   void climb_ladder() {
     d_.ladder.push_back({{}, d_.baseline});
     std::vector<const EffectTrial*> candidates;
     for (const auto& t : d_.ranking)
       if (t.judged && !t.failed && t.delta_bic < 0.0) candidates.push_back(&t);
-    if (!candidates.empty()) d_.ladder.push_back({{candidates.front()->effect}, candidates.front()->fit});
     std::set<std::string> used;
-    if (!candidates.empty()) used.insert(candidates.front()->effect);
-    while (used.size() < candidates.size()) {
+    for (const auto* c : candidates) {  // the first rung: the best by BIC that also lowers the error
+      if (decide(1, c->effect, c->fit, d_.baseline)) {
+        d_.ladder.push_back({{c->effect}, c->fit});
+        used.insert(c->effect);
+        break;
+      }
+    }
+    while (!used.empty() && used.size() < candidates.size()) {
       std::vector<const EffectTrial*> next;
       for (const auto* c : candidates)
         if (!used.count(c->effect)) next.push_back(c);
@@ -425,7 +431,14 @@ class DiagnosisRun {
     }
   }
 
-  // Fits the current chain plus each of `next`; adds the best as a rung if it lowers the BIC.
+  // Records the decision on `effect` for rung `step` (judge_rung) and returns whether it is added.
+  bool decide(std::size_t step, const std::string& effect, const CalibrationResult& fit, const CalibrationResult& before) {
+    d_.decisions.push_back(judge_rung(step, effect, fit, before));
+    return d_.decisions.back().added;
+  }
+
+  // Fits the current chain plus each of `next`; adds the best by BIC among those that lower both
+  // the BIC and the combined NRMSE.
   bool add_rung(const std::vector<const EffectTrial*>& next, std::set<std::string>& used) {
     const LadderStep& cur = d_.ladder.back();
     std::vector<CalibrationResult> fits(next.size());
@@ -445,15 +458,23 @@ class DiagnosisRun {
         ok[i] = false;
       }
     });
-    std::size_t best = next.size();
+    std::vector<std::size_t> order;
     for (std::size_t i = 0; i < next.size(); ++i)
-      if (ok[i] && (best == next.size() || fits[i].bic < fits[best].bic)) best = i;
-    if (best == next.size() || !(fits[best].bic < cur.fit.bic)) return false;
-    LadderStep step{cur.effects, std::move(fits[best])};
-    step.effects.push_back(next[best]->effect);
-    used.insert(next[best]->effect);
-    d_.ladder.push_back(std::move(step));
-    return true;
+      if (ok[i]) order.push_back(i);
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return fits[a].bic < fits[b].bic; });
+    const std::size_t step = d_.ladder.size();
+    for (const std::size_t i : order) {
+      if (!decide(step, next[i]->effect, fits[i], cur.fit)) {
+        if (!(fits[i].bic < cur.fit.bic)) return false;  // the rest lower the BIC even less
+        continue;
+      }
+      LadderStep rung{cur.effects, std::move(fits[i])};
+      rung.effects.push_back(next[i]->effect);
+      used.insert(next[i]->effect);
+      d_.ladder.push_back(std::move(rung));
+      return true;
+    }
+    return false;
   }
 
   const MeasurementFile& data_;
@@ -465,6 +486,24 @@ class DiagnosisRun {
 };
 
 }  // namespace
+
+LadderDecision judge_rung(std::size_t step, const std::string& effect, const CalibrationResult& fit,
+                          const CalibrationResult& before) {
+  LadderDecision dec{step, effect, false, fit.bic - before.bic, before.nrmse[2], fit.nrmse[2], ""};
+  char buf[200];
+  if (!(fit.bic < before.bic)) {
+    std::snprintf(buf, sizeof buf, "does not lower the BIC (%+.1f)", dec.delta_bic);
+  } else if (!(fit.nrmse[2] < before.nrmse[2])) {
+    std::snprintf(buf, sizeof buf, "lowers the BIC (%+.1f) but raises the combined NRMSE from %.4f to %.4f: not added",
+                  dec.delta_bic, dec.nrmse_before, dec.nrmse_after);
+  } else {
+    dec.added = true;
+    std::snprintf(buf, sizeof buf, "lowers the BIC (%+.1f) and the combined NRMSE from %.4f to %.4f", dec.delta_bic,
+                  dec.nrmse_before, dec.nrmse_after);
+  }
+  dec.reason = buf;
+  return dec;
+}
 
 Diagnosis diagnose(const MeasurementFile& data, const Segmentation& seg, const DiagnosisOptions& options) {
   return DiagnosisRun(data, seg, options).run();
@@ -512,6 +551,10 @@ nlohmann::json to_json(const Diagnosis& d, const std::string& data_file) {
   for (const auto& s : d.ladder) {
     j["ladder"].push_back({{"effects", s.effects}, {"nrmse", nrmse_json(s.fit.nrmse)}, {"bic", s.fit.bic}, {"k", s.fit.k}});
   }
+  j["ladder_decisions"] = nlohmann::json::array();
+  for (const auto& c : d.decisions)
+    j["ladder_decisions"].push_back({{"step", c.step}, {"effect", c.effect}, {"added", c.added}, {"delta_bic", c.delta_bic},
+                                     {"nrmse_before", c.nrmse_before}, {"nrmse_after", c.nrmse_after}, {"reason", c.reason}});
   j["final"] = {{"effects", d.ladder.back().effects}, {"params", params_json(d.ladder.back().fit)},
                 {"settings", d.ladder.back().fit.settings}, {"nrmse", nrmse_json(d.ladder.back().fit.nrmse)}};
   j["warnings"] = d.warnings;
@@ -555,6 +598,9 @@ std::string format_report(const Diagnosis& d) {
                   s.fit.nrmse[2], s.fit.bic);
     os << buf;
   }
+  // Effects the BIC favoured that the ladder left out because the error would have risen.
+  for (const auto& c : d.decisions)
+    if (!c.added && c.delta_bic < 0.0) os << "   not added at step " << c.step << ": " << c.effect << " " << c.reason << "\n";
   for (const auto& w : d.warnings) os << "warning: " << w << "\n";
   if (!d.confident) os << "note: not a confident answer: see the warnings above\n";
   return os.str();

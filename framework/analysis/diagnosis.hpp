@@ -78,18 +78,36 @@ struct LadderStep {
   CalibrationResult fit;
 };
 
+// Why the ladder took, or did not take, an effect at one step: a rung must lower the BIC and the
+// combined NRMSE the report shows (a BIC on strongly correlated residuals can favour an effect
+// whose refit moves the error the wrong way).
+struct LadderDecision {
+  std::size_t step = 0;        // the rung it was tried for (1: the first effect)
+  std::string effect;
+  bool added = false;
+  double delta_bic = 0.0;      // against the step before
+  double nrmse_before = 0.0, nrmse_after = 0.0;  // combined
+  std::string reason;
+};
+
 struct Diagnosis {
   std::string law;
   CalibrationResult baseline;
   std::vector<CovariateScore> covariates;  // best first
   std::vector<EffectTrial> ranking;        // judged by BIC, best first; then the ones not judged
   std::vector<LadderStep> ladder;          // first: the baseline
+  std::vector<LadderDecision> decisions;   // every effect tried for a rung, in order
   std::vector<std::string> warnings;
   bool confident = true;                   // false: short record or effects that cannot be judged
   double wall_ms = 0.0;
 };
 
 Diagnosis diagnose(const MeasurementFile& data, const Segmentation& seg, const DiagnosisOptions& options);
+
+// The ladder's rule for one candidate rung: `fit` (the chain with `effect` added) against
+// `before` (the chain without it) is added when it lowers both the BIC and the combined NRMSE.
+LadderDecision judge_rung(std::size_t step, const std::string& effect, const CalibrationResult& fit,
+                          const CalibrationResult& before);
 
 // The JSON of the issue: data, base_law, baseline, segments, covariates, ranking, ladder, final,
 // plus warnings, confident, worst.

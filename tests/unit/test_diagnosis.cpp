@@ -105,7 +105,8 @@ TEST(Diagnosis, LadderStopsWhenNothingHelpsAndJsonHasTheKeys) {
   EXPECT_TRUE(d.ladder[0].effects.empty());
   for (const auto& t : d.ranking) EXPECT_GT(t.delta_bic, 0.0) << t.effect;
   const nlohmann::json j = to_json(d, "synthetic.csv");
-  for (const char* k : {"data", "base_law", "baseline", "segments", "covariates", "ranking", "ladder", "final", "warnings"})
+  for (const char* k : {"data", "base_law", "baseline", "segments", "covariates", "ranking", "ladder", "ladder_decisions",
+                        "final", "warnings"})
     EXPECT_TRUE(j.contains(k)) << k;
   for (const char* k : {"params", "nrmse"}) EXPECT_TRUE(j["baseline"].contains(k)) << k;
   for (const char* k : {"shear_stress", "normal_disp", "combined"}) EXPECT_TRUE(j["baseline"]["nrmse"].contains(k)) << k;
@@ -118,14 +119,39 @@ TEST(Diagnosis, LadderStopsWhenNothingHelpsAndJsonHasTheKeys) {
   for (const char* k : {"effects", "params"}) EXPECT_TRUE(j["final"].contains(k)) << k;
 }
 
+// The ladder's rule: a rung must lower the BIC and the combined NRMSE the report shows; the
+// decision says which of the two failed, with the numbers.
+TEST(Diagnosis, ARungMustLowerTheBicAndTheReportedError) {
+  CalibrationResult before, better, bic_only, worse;
+  before.bic = -5000.0;
+  before.nrmse = {0.01, 0.20, 0.105};
+  better.bic = -5600.0;
+  better.nrmse = {0.01, 0.12, 0.065};
+  bic_only.bic = -5600.0;  // wins the BIC, but the reported error rises
+  bic_only.nrmse = {0.02, 0.21, 0.115};
+  worse.bic = -4990.0;
+  worse.nrmse = {0.01, 0.19, 0.100};
+  const LadderDecision a = judge_rung(1, "dilation_recovery", better, before);
+  EXPECT_TRUE(a.added);
+  EXPECT_DOUBLE_EQ(a.delta_bic, -600.0);
+  EXPECT_NE(a.reason.find("from 0.1050 to 0.0650"), std::string::npos) << a.reason;
+  const LadderDecision b = judge_rung(2, "rate_and_state", bic_only, before);
+  EXPECT_FALSE(b.added);
+  EXPECT_NE(b.reason.find("raises the combined NRMSE from 0.1050 to 0.1150: not added"), std::string::npos) << b.reason;
+  const LadderDecision c = judge_rung(2, "two_order_roughness", worse, before);
+  EXPECT_FALSE(c.added);
+  EXPECT_NE(c.reason.find("does not lower the BIC (+10.0)"), std::string::npos) << c.reason;
+}
+
 // Blind: one hidden effect drawn from those a two-sided constant-rate record can reveal, with
 // non-default parameters, and a noisy record, both from a seed. The seeds are 1 to 24 (both
 // effects, twelve of each), not the clock: a clock seed made CI fail about one run in twelve,
 // on the known defect below. ROCKDEM_BLIND_SEED runs one seed instead.
-// Known defect (issue 15): with dilation_recovery hidden, some noise realisations (seeds 6 and
-// 33975) get the effect ranked first but its rung does not cut the reported error (the ladder adds
-// rungs on BIC of the sum of squares, and reports the combined NRMSE: 0.127 against 0.102 for
-// seed 6). Those seeds are checked to still fail, so that a fix shows here.
+// Every rung must lower the reported error. Known defect (issue 15): with dilation_recovery
+// hidden, some noise realisations (seeds 6 and 33975) get the effect ranked first and added, but
+// its refit cuts the combined NRMSE by less than 30 % (0.145 to 0.127 for seed 6, 0.145 to 0.107
+// for seed 33975): the fit does not find the hidden parameters. Those seeds are checked to still
+// lack the cut, so that a fix shows here.
 TEST(Diagnosis, BlindHiddenEffectIsRankedFirstAndCutsTheError) {
   struct Hidden {
     const char* effect;
@@ -156,13 +182,21 @@ TEST(Diagnosis, BlindHiddenEffectIsRankedFirstAndCutsTheError) {
     const Diagnosis d = diagnose(f, seg, o);
     ASSERT_FALSE(d.ranking.empty()) << "seed " << seed;
     EXPECT_EQ(d.ranking.front().effect, h.effect) << "seed " << seed << "\n" << format_report(d);
-    ASSERT_GE(d.ladder.size(), 2u) << "seed " << seed << "\n" << format_report(d);
-    EXPECT_EQ(d.ladder[1].effects.front(), h.effect) << "seed " << seed;
-    const bool cut = d.ladder[1].fit.nrmse[2] < 0.7 * d.baseline.nrmse[2];  // a cut of 30 % or more
-    if (known_no_cut.count(seed))
+    // Every rung lowers the error the report shows, and its decision is recorded.
+    for (std::size_t k = 1; k < d.ladder.size(); ++k) {
+      EXPECT_LT(d.ladder[k].fit.nrmse[2], d.ladder[k - 1].fit.nrmse[2]) << "seed " << seed << ", rung " << k << "\n" << format_report(d);
+      bool recorded = false;
+      for (const auto& c : d.decisions) recorded = recorded || (c.step == k && c.added && c.effect == d.ladder[k].effects.back());
+      EXPECT_TRUE(recorded) << "seed " << seed << ", rung " << k;
+    }
+    const bool first = d.ladder.size() >= 2 && d.ladder[1].effects.front() == h.effect;
+    const bool cut = first && d.ladder[1].fit.nrmse[2] < 0.7 * d.baseline.nrmse[2];  // a cut of 30 % or more
+    if (known_no_cut.count(seed)) {
       EXPECT_FALSE(cut) << "seed " << seed << ": the known defect is gone; take the seed out of known_no_cut";
-    else
-      EXPECT_TRUE(cut) << "seed " << seed << ": " << d.ladder[1].fit.nrmse[2] << " against " << d.baseline.nrmse[2] << "\n"
-                       << format_report(d);
+    } else {
+      EXPECT_TRUE(first) << "seed " << seed << "\n" << format_report(d);
+      EXPECT_TRUE(cut) << "seed " << seed << ": " << (d.ladder.size() >= 2 ? d.ladder[1].fit.nrmse[2] : NAN) << " against "
+                       << d.baseline.nrmse[2] << "\n" << format_report(d);
+    }
   }
 }
