@@ -64,6 +64,11 @@ struct ShearContext {
   double roughness_angle = 0.0;  // current roughness (dilation) angle the base law uses [rad]
   double strength = 0.0;         // bounding shear strength, magnitude [Pa]; effects may change it
   double dilation_rate = 0.0;    // d(dilation)/d|du_s^p| with its sign; effects may change it
+  // The law derives its dilation from the shear stress it carries (Continuously-Yielding, eq.
+  // 3-16: tan(atan(tau/sigma_n) - phi)), so an effect that raises the strength raises the
+  // dilation through the stress, in the increments that follow; scaling dilation_rate for the
+  // same cause as well would count it twice.
+  bool dilation_follows_stress = false;
   bool toward_origin = false;    // the increment moves back toward the mated position
   double dt = 0.0;               // time increment [s] (0: pseudo-static)
   double tau = 0.0;              // shear stress before the increment [Pa]

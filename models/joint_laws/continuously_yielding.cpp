@@ -155,6 +155,7 @@ void ContinuouslyYielding::update(const Params& p, State& s, const JointKinemati
   ctx.roughness_angle = phim - p.friction;
   ctx.strength = bound_tr;
   ctx.dilation_rate = sign * std::tan(psi);  // eq. 3-16
+  ctx.dilation_follows_stress = true;
   ctx.toward_origin = u_s_before * k.du_s < 0.0;
   ctx.dt = k.dt;
   ctx.tau = s.tau;

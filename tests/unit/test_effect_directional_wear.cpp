@@ -82,6 +82,32 @@ TEST(EffectDirectionalWear, SecondPeakInTheThirdQuadrantOfTheFirstCycle) {
   }
 }
 
+// The fresh side dilates like the first side did: over the first 8 mm past the origin of a
+// +-10 mm cycle at 3 MPa the joint dilates within 10 % of what it dilated over the first 8 mm
+// of the cycle. Continuously-Yielding's dilation follows its shear stress (eq. 3-16), so the
+// raised strength raises it; the effect scaling its rate as well made this 3.2 times as much (issue 15).
+TEST(EffectDirectionalWear, TheFreshSideDilatesAsTheFirstSideDid) {
+  const std::vector<std::pair<const char*, RawValues>> laws = {{"barton_bandis", bb_report()},
+                                                                {"continuously_yielding", cy_report()}};
+  for (const auto& [law, params] : laws) {
+    auto m = model(law, params, {effect("directional_wear")});
+    ElementDriver d(*m);
+    const auto f = d.run({cnl(3e6, ShearPath::cycles(0.01, 1, 1e-4))});
+    const std::size_t p8 = row_at(f, 8.0);
+    const Range q3 = third_quadrant(f, 0);
+    ASSERT_LT(p8, f.rows.size());
+    ASSERT_LT(q3.from, q3.to);
+    std::size_t n8 = q3.from;
+    while (n8 < q3.to && f.rows[n8].shear_disp_mm > -8.0) ++n8;
+    ASSERT_LT(n8, q3.to) << law;
+    const double first = f.rows[p8].normal_disp_mm - f.rows[0].normal_disp_mm;
+    const double fresh = f.rows[n8].normal_disp_mm - f.rows[q3.from].normal_disp_mm;
+    std::printf("%s: dilation over the first 8 mm %.4f mm, over the first 8 mm past the origin %.4f mm\n", law, first, fresh);
+    EXPECT_GT(first, 0.05) << law;
+    EXPECT_NEAR(fresh, first, 0.10 * first) << law;
+  }
+}
+
 // Resolved along the surface: after a +-5 mm cycle, a +-10 mm cycle meets surface beyond 5 mm for
 // the first time; with 16 bins it is stronger there than with the two-sided bookkeeping, which
 // counts all the earlier wear of that side.
