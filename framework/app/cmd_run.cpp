@@ -2,6 +2,7 @@
 // laboratory-test case file (framework/lab/lab_case.hpp) runs as its DEM specimen
 // (framework/lab/direct_shear_specimen.hpp).
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cstdlib>
 #include <csignal>
@@ -132,31 +133,55 @@ int run_with_manifest(Case& c, const fs::path& dir, bool quiet, const std::strin
 }
 
 // A restart into the folder of the run it continues: what that run wrote and this one will write
-// again (history, manifest, case copy, final and interrupted states, records, checkpoints of the
-// stages still to run, figures) moves into before_restart_<n>/, so nothing is overwritten. The
-// checkpoints and applied motions of the completed stages stay (a restart can go on from them
-// again), and so do vtk/
-// (the series is continued from the restart time), drift/ (rewritten from the rows the
-// checkpoint carries) and joints/. The checkpoint restarted from is copied, not moved.
+// again moves into before_restart_<n>/, so nothing is overwritten: history, manifest, case copy,
+// final and interrupted states, records, figures, the checkpoints and applied motions of the
+// stages still to run, the VTK frames after the restart's step (vtk/, with copies of the .pvd
+// collections) and the drift results of the stages still to run (drift/, with copies of the
+// files that cover every stage). What the completed stages wrote stays, when the checkpoint is
+// this folder's own; the checkpoint restarted from is copied, not moved.
 void set_earlier_run_aside(const fs::path& dir, const std::string& restart) {
   if (!fs::exists(dir / "manifest.json")) return;  // an empty folder: nothing came before
   const auto extra = read_checkpoint_scalars(restart);
   const auto it = extra.find("stages_completed");
   const long completed = it == extra.end() ? 0 : static_cast<long>(it->second);
+  const long step = read_checkpoint_step(restart);
   int n = 1;
   while (fs::exists(dir / ("before_restart_" + std::to_string(n)))) ++n;
   const fs::path aside = dir / ("before_restart_" + std::to_string(n));
   std::error_code ec;
   const fs::path from = fs::weakly_canonical(restart, ec);
-  std::vector<fs::path> entries;
-  for (const auto& e : fs::directory_iterator(dir)) entries.push_back(e.path());
+  const bool own = from.parent_path() == fs::weakly_canonical(dir, ec);
+  // The number after a file's prefix ("stage_3_..." -> 3), -1 without one.
+  const auto number_after = [](const std::string& name, const std::string& prefix) -> long {
+    if (name.rfind(prefix, 0) != 0 || name.size() == prefix.size() || !std::isdigit(static_cast<unsigned char>(name[prefix.size()])))
+      return -1;
+    return std::atol(name.c_str() + prefix.size());
+  };
+  const auto entries = [](const fs::path& d) {
+    std::vector<fs::path> v;
+    if (fs::is_directory(d))
+      for (const auto& e : fs::directory_iterator(d)) v.push_back(e.path());
+    return v;
+  };
   fs::create_directory(aside);
-  for (const auto& p : entries) {
+  for (const auto& p : entries(dir)) {
     const std::string name = p.filename().string();
-    if (name == "vtk" || name == "drift" || name == "joints" || name.rfind("before_restart_", 0) == 0) continue;
-    // Checkpoints and applied ground motions of the completed stages stay (numbered by stage).
-    if (name.rfind("stage_", 0) == 0 && p.extension() == ".h5" && std::atol(name.c_str() + 6) <= completed) continue;
-    if (name.rfind("motion_", 0) == 0 && std::atol(name.c_str() + 7) <= completed) continue;
+    if (name == "joints" || name.rfind("before_restart_", 0) == 0) continue;
+    if (name == "vtk" || name == "drift") {
+      fs::create_directory(aside / name);
+      for (const auto& q : entries(p)) {
+        const std::string f = q.filename().string();
+        const long k = name == "vtk" ? std::max(number_after(f, "blocks_"), number_after(f, "contacts_"))
+                                     : std::max({number_after(f, "contacts_"), number_after(f, "joints_"), number_after(f, "blocks_")});
+        const long limit = name == "vtk" ? step : completed;  // vtk frames by step, drift files by stage
+        if (!own) fs::rename(q, aside / name / f);  // another run's: all of it
+        else if (k < 0) fs::copy_file(q, aside / name / f);  // collections and tables of every stage
+        else if (k > limit) fs::rename(q, aside / name / f);
+      }
+      continue;
+    }
+    if (own && (number_after(name, "stage_") >= 1 && number_after(name, "stage_") <= completed && p.extension() == ".h5")) continue;
+    if (own && number_after(name, "motion_") >= 1 && number_after(name, "motion_") <= completed) continue;
     if (fs::weakly_canonical(p, ec) == from) fs::copy_file(p, aside / name);
     else fs::rename(p, aside / name);
   }
@@ -195,7 +220,8 @@ const CommandRegistrar reg{Command{
                    "empty a non-empty --out folder first (only one an earlier rockdem run wrote, with a manifest.json)");
       auto restart = std::make_shared<std::string>();
       sub.add_option("--restart", *restart,
-                     "continue from a stage checkpoint (stage_<n>_<name>.h5) written by an earlier run of the same case");
+                     "continue from a checkpoint of an earlier run of the same case: a stage checkpoint (stage_<n>_<name>.h5), "
+                     "or final_state.h5 with stages added to the case");
       auto velocity = std::make_shared<std::string>();
       auto mass_dt = std::make_shared<std::string>();
       auto nstages = std::make_shared<int>(0);
@@ -284,6 +310,8 @@ const CommandRegistrar reg{Command{
             prepare_run_folder(dir, *restart, *overwrite, *use_default, *file, c, m);
           } catch (const InputError& e) {
             refused = e.what();
+          } catch (const std::exception& e) {  // a file system error: every process must hear of it
+            refused = "--out " + dir.string() + ": " + e.what();
           }
         }
         if (comm.root() && refused.empty()) {

@@ -8,6 +8,8 @@
 
 #include <toml++/toml.h>
 
+#include "framework/core/error.hpp"
+
 namespace rockdem {
 namespace {
 
@@ -35,7 +37,7 @@ void keep_completed_part(toml::table& t, std::size_t completed) {
   if (auto* bc = t["boundary"].as_array())
     for (auto& e : *bc) {
       auto* b = e.as_table();
-      if (!b || !b->contains("stages")) continue;  // active in every stage
+      if (!b || names_in(b->get("stages")).empty()) continue;  // active in every stage (no or an empty list)
       toml::array active;
       for (const auto& n : names_in(b->get("stages")))
         if (done.count(n)) active.push_back(n);
@@ -44,9 +46,13 @@ void keep_completed_part(toml::table& t, std::size_t completed) {
     }
   if (auto* mo = t["motions"].as_array()) {
     toml::array used;
-    for (const auto& e : *mo)
-      if (const auto* m = e.as_table(); m && m->contains("name") && played.count(m->get_as<std::string>("name")->get())) used.push_back(*m);
-    *mo = std::move(used);
+    for (const auto& e : *mo) {
+      const auto* m = e.as_table();
+      const auto* n = m ? m->get_as<std::string>("name") : nullptr;
+      if (n && played.count(n->get())) used.push_back(*m);
+    }
+    if (used.empty()) t.erase("motions");  // none played yet: as if the case had none
+    else *mo = std::move(used);
   }
   if (auto* ds = t["direct_shear"].as_table()) {
     auto* shear = (*ds)["shear_stages"].as_array();
@@ -86,7 +92,12 @@ void flatten(const toml::table& t, const std::string& prefix, std::vector<std::p
 }
 
 std::vector<std::pair<std::string, std::string>> completed_part(const std::string& text, std::size_t completed) {
-  toml::table t = toml::parse(std::string_view(text), std::string_view("the case"));
+  toml::table t;
+  try {
+    t = toml::parse(std::string_view(text), std::string_view("the case"));
+  } catch (const toml::parse_error& e) {
+    throw InputError(std::string("the case text it holds cannot be read (") + std::string(e.description()) + ")");
+  }
   keep_completed_part(t, completed);
   std::vector<std::pair<std::string, std::string>> out;
   flatten(t, "", out);

@@ -507,6 +507,12 @@ CheckpointArrays read_checkpoint_arrays(const std::string& path) {
 
 CheckpointTexts read_checkpoint_texts(const std::string& path) { return read_group<std::string>(path, "texts", H5T_NATIVE_UINT8); }
 
+long read_checkpoint_step(const std::string& path) {
+  h5::QuietErrors quiet;
+  h5::Handle file = open_checkpoint(path);
+  return static_cast<long>(h5::read_attr<std::int64_t>(file, "step", path));
+}
+
 CheckpointScalars read_checkpoint_scalars(const std::string& path) {
   CheckpointScalars out;
   h5::QuietErrors quiet;

@@ -41,6 +41,8 @@ void write_checkpoint(const Model& m, const std::string& path, const CheckpointS
 CheckpointArrays read_checkpoint_arrays(const std::string& path);
 // The caller scalars of a checkpoint (/extra), without reading the model.
 CheckpointScalars read_checkpoint_scalars(const std::string& path);
+// The step of the state a checkpoint holds, without reading the model.
+long read_checkpoint_step(const std::string& path);
 // The texts of a checkpoint (none for checkpoints without the group).
 CheckpointTexts read_checkpoint_texts(const std::string& path);
 

@@ -94,6 +94,7 @@ std::map<std::string, std::vector<double>> DirectShearRecorder::saved_state() co
 void DirectShearRecorder::restore_state(const std::map<std::string, std::vector<double>>& a, const std::string& file) {
   const auto t0 = a.find("lab_record.t0");
   if (t0 == a.end()) return;
+  if (t0->second.size() != 1) throw InputError(file + ": its joint test record is incomplete (/arrays/lab_record.t0)");
   const char* names[6] = {"lab_record.time_s", "lab_record.stage", "lab_record.shear_disp_mm", "lab_record.shear_stress_MPa",
                           "lab_record.normal_disp_mm", "lab_record.normal_stress_MPa"};
   const std::vector<double>* col[6];

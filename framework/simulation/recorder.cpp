@@ -61,8 +61,11 @@ void Recorder::restore_state(const std::map<std::string, std::vector<double>>& a
   for (std::size_t i = 0; i < h_.series_count(); ++i) {
     const std::string& name = h_.info(static_cast<int>(i)).name;
     const auto it = a.find("history." + name);
-    if (it == a.end() || it->second.size() != t->second.size())
+    if (it == a.end())
       throw InputError(file + ": the checkpoint's history has no series '" + name + "' (its case recorded other histories)");
+    if (it->second.size() != t->second.size())
+      throw InputError(file + ": the checkpoint's history series '" + name + "' has " + std::to_string(it->second.size()) +
+                       " samples, its times " + std::to_string(t->second.size()) + " (a damaged checkpoint)");
     cols.push_back(&it->second);
   }
   std::vector<double> row(cols.size());

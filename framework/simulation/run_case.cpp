@@ -87,7 +87,12 @@ void check_same_case(const Case& c, const std::string& restart, std::size_t comp
                 << "the case is not compared with it\n";
     return;
   }
-  const std::vector<std::string> diffs = restart_differences(it->second, c.source_toml, completed);
+  std::vector<std::string> diffs;
+  try {
+    diffs = restart_differences(it->second, c.source_toml, completed);
+  } catch (const InputError& e) {
+    throw InputError(restart + ": " + e.what());
+  }
   if (diffs.empty()) return;
   std::string msg = restart + ": this case differs from the one that wrote the checkpoint in " + std::to_string(diffs.size()) +
                     (diffs.size() == 1 ? " value" : " values") + " that the completed stages ran with:";
