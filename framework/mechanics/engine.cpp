@@ -351,10 +351,11 @@ std::map<std::string, std::vector<double>> Engine::saved_state() const {
   // The energy balance, when something tracks it, goes on from its terms (the whole model's).
   auto items = energy_.saved_items(m_);
   if (comm_.size() > 1) {
-    double tracked = items.empty() ? 0.0 : 1.0;
-    comm_.sum(&tracked, 1);  // the same on every process (tracking starts at the same step)
-    for (auto& [name, v] : items) comm_.sum(v.data(), static_cast<int>(v.size()));
-    if (!items.empty()) items["energy.dt_prev"][0] /= tracked;  // every process held the same step
+    // Per-item arrays add up to the whole model's (each process fills its own items); the last
+    // step's dt is the same on every process and is not summed. Tracking starts at the same
+    // step everywhere, so every process holds the same keys.
+    for (auto& [name, v] : items)
+      if (name != "energy.dt_prev") comm_.sum(v.data(), static_cast<int>(v.size()));
   }
   if (!items.empty()) {
     const EnergyTerms& t = comm_.size() == 1 ? energy_.terms() : energy_sum_;
