@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "framework/contact/boundary_geometry.hpp"
 #include "framework/contact/broad_phase.hpp"
 #include "framework/geometry/polygon.hpp"
 
@@ -47,23 +48,6 @@ struct Projection {
   double radius = 0.0;         // and radius
 };
 
-// Tangent length t and radius r of the rounding at a vertex where the unit boundary direction turns
-// from e1 to e2 (left turns are convex on a counter-clockwise loop), with rounding length d and
-// adjacent edge lengths l1, l2; tan(th/2) = sin th / (1 + cos th). Only real corners are rounded:
-// a boundary gridpoint of a deformable block on a straight face turns by a tiny angle, and
-// rounding it would bend the normal of points that merely pass over it.
-constexpr double kSin5 = 0.08715574274765817;  // sin(5 degrees)
-
-void corner_rounding(const Vec2& e1, const Vec2& e2, double l1, double l2, double d, double& t, double& r) {
-  t = r = 0.0;
-  const double sn = cross(e1, e2), cs = e1.dot(e2);
-  if (d <= 0.0 || sn <= 0.0 || (cs > 0.0 && sn < kSin5)) return;
-  const double h = sn / (1.0 + cs);
-  t = std::min({d * h, 0.5 * l1, 0.5 * l2});
-  r = t / h;
-}
-
-
 // Signed distance and normal of p relative to boundary edge i of b, with convex corners rounded
 // by radius d (Cundall 1988; UDEC): near a convex vertex the straight part of each edge stops at
 // the tangent point, and between the two tangent points the boundary is an arc of radius d (less
@@ -72,19 +56,19 @@ void corner_rounding(const Vec2& e1, const Vec2& e2, double l1, double l2, doubl
 // keeps that face's normal rather than jumping to the other face. Flat and concave vertices are
 // not rounded; beyond their ends the normal points from the vertex to the point when the point
 // is outside both edges, else it is the mean of the two edge normals.
-Projection project_rounded(const Model& m, const Block& b, const Vec2& p, int i, double d) {
+Projection project_rounded(const Model& m, const Block& b, const BoundaryEdge* geo, const Vec2& p, int i) {
   const int n = static_cast<int>(b.boundary.size());
   const Vec2& a = m.gp[b.boundary[i]].x;
   const Vec2& c = m.gp[b.boundary[(i + 1) % n]].x;
-  const Vec2& ap = m.gp[b.boundary[(i - 1 + n) % n]].x;
-  const Vec2& cn = m.gp[b.boundary[(i + 2) % n]].x;
-  const double len = (c - a).norm();
-  const Vec2 u = (c - a) / len;
-  const Vec2 nrm(u.y(), -u.x());
-  const Vec2 up = (a - ap).normalized(), un = (cn - c).normalized();
-  double ta, ra, tb, rb;
-  corner_rounding(up, u, (a - ap).norm(), len, d, ta, ra);
-  corner_rounding(u, un, len, (cn - c).norm(), d, tb, rb);
+  const BoundaryEdge& edge = geo[i];
+  const BoundaryEdge& prev = geo[(i - 1 + n) % n];
+  const BoundaryEdge& next = geo[(i + 1) % n];
+  const double len = edge.len;
+  const Vec2& u = edge.u;
+  const Vec2& nrm = edge.nrm;
+  const Vec2& up = prev.u;
+  const Vec2& un = next.u;
+  const double ta = edge.t, ra = edge.r, tb = next.t, rb = next.r;
   const double xi = (p - a).dot(u);
   Projection pr;
   pr.edge = i;
@@ -133,21 +117,18 @@ struct OwnSide {
   bool flat = false;
 };
 
-OwnSide own_side(const Model& m, const Block& a, int k, int side) {
+OwnSide own_side(const Model& m, const Block& a, const BoundaryEdge* geo, int k, int side) {
   const int n = static_cast<int>(a.boundary.size());
-  const Vec2& p = m.gp[a.boundary[k]].x;
   const Vec2& prev = m.gp[a.boundary[(k - 1 + n) % n]].x;
   const Vec2& next = m.gp[a.boundary[(k + 1) % n]].x;
-  const Vec2 e1 = (p - prev).normalized(), e2 = (next - p).normalized();
   OwnSide o;
-  if (e1.dot(e2) >= std::cos(5.0 * M_PI / 180.0)) {
+  if (geo[k].flat) {
     o.flat = true;
-    o.normal = Vec2(e1.y() + e2.y(), -(e1.x() + e2.x())).normalized();
+    o.normal = geo[k].flat_normal;
     o.far = next;
     return o;
   }
-  const Vec2& e = side == 0 ? e1 : e2;
-  o.normal = Vec2(e.y(), -e.x());
+  o.normal = side == 0 ? geo[(k - 1 + n) % n].nrm : geo[k].nrm;
   o.far = side == 0 ? prev : next;
   return o;
 }
@@ -162,15 +143,13 @@ OwnSide own_side(const Model& m, const Block& a, int k, int side) {
 // block because of the small elastic interpenetration of the joint. A corner whose edges face
 // nothing (a tip pressed into a tip, a corner into a face at an angle) is left to the rounded
 // corners (closest_edge).
-bool face_projection(const Model& m, const Block& b, const Vec2& p, const OwnSide& own, int e, double w,
-                     double min_share, Projection& pr) {
-  const int n = static_cast<int>(b.boundary.size());
-  const Vec2& a = m.gp[b.boundary[e]].x;
-  const Vec2& c = m.gp[b.boundary[(e + 1) % n]].x;
-  const double len = (c - a).norm();
-  const Vec2 u = (c - a) / len;
-  const Vec2 nrm(u.y(), -u.x());
+bool face_projection(const Model& m, const Block& b, const BoundaryEdge* geo, const Vec2& p, const OwnSide& own,
+                     int e, double w, double min_share, Projection& pr) {
+  const Vec2& nrm = geo[e].nrm;
   if (nrm.dot(own.normal) > -0.94) return false;  // not facing (more than ~20 degrees apart)
+  const Vec2& a = m.gp[b.boundary[e]].x;
+  const Vec2& u = geo[e].u;
+  const double len = geo[e].len;
   const double xi = (p - a).dot(u);
   if (xi < -w || xi > len + w) return false;
   if (!own.flat) {
@@ -186,12 +165,13 @@ bool face_projection(const Model& m, const Block& b, const Vec2& p, const OwnSid
   return true;
 }
 
-Projection closest_face(const Model& m, const Block& b, const Vec2& p, const OwnSide& own, double w, bool& found) {
+Projection closest_face(const Model& m, const Block& b, const BoundaryEdge* geo, const Vec2& p, const OwnSide& own,
+                        double w, bool& found) {
   Projection best, pr;
   found = false;
   const int n = static_cast<int>(b.boundary.size());
   for (int i = 0; i < n; ++i)
-    if (face_projection(m, b, p, own, i, w, 0.01 * w, pr) && std::abs(pr.dist) <= w &&
+    if (face_projection(m, b, geo, p, own, i, w, 0.01 * w, pr) && std::abs(pr.dist) <= w &&
         (!found || std::abs(pr.dist) < std::abs(best.dist))) {
       best = pr;
       found = true;
@@ -199,17 +179,24 @@ Projection closest_face(const Model& m, const Block& b, const Vec2& p, const Own
   return best;
 }
 
-Projection closest_edge(const Model& m, const Block& b, const Vec2& p, double d, double w) {
+Projection closest_edge(const Model& m, const Block& b, const BoundaryEdge* geo, const Vec2& p, double d, double w) {
   Projection best;
   double best_abs = std::numeric_limits<double>::max();
   const int n = static_cast<int>(b.boundary.size());
   for (int i = 0; i < n; ++i) {
+    // Cheap bounds first: the distance to the edge's box, then to the segment itself. The box test
+    // only skips edges the segment test would skip (its margin, 1e-9 of the reach, is far above
+    // the round-off of either distance), without a division and a square root for each.
+    const BoundaryEdge& e = geo[i];
+    const double reach = best_abs + d, box_reach = reach * (1.0 + 1e-9);
+    if (e.lo.x() - p.x() > box_reach || p.x() - e.hi.x() > box_reach || e.lo.y() - p.y() > box_reach ||
+        p.y() - e.hi.y() > box_reach)
+      continue;
     const Vec2& a = m.gp[b.boundary[i]].x;
-    const Vec2& c = m.gp[b.boundary[(i + 1) % n]].x;
-    // Cheap bound first: distance to the segment itself.
+    const Vec2& c = m.gp[b.boundary[i + 1 == n ? 0 : i + 1]].x;
     const double sp = project(p, a, c);
-    if ((p - (a + sp * (c - a))).norm() > best_abs + d) continue;
-    const Projection pr = project_rounded(m, b, p, i, d);
+    if ((p - (a + sp * (c - a))).norm() > reach) continue;
+    const Projection pr = project_rounded(m, b, geo, p, i);
     if (std::abs(pr.dist) < best_abs) {
       best_abs = std::abs(pr.dist);
       best = pr;
@@ -236,18 +223,12 @@ Projection closest_edge(const Model& m, const Block& b, const Vec2& p, double d,
 // two tips pressed together push along the line joining them; and two corners sliding past each
 // other along a shared joint (the junction of four blocks) never overlap: their gap is smallest,
 // zero, when they are side by side, where the normal is that of the joint.
-void corner_to_corner(const Model& m, const Block& a, int k, double d, Projection& pr) {
+void corner_to_corner(const Model& m, const Block& a, const BoundaryEdge* geo, int k, Projection& pr) {
   if (!pr.arc) return;
-  const int n = static_cast<int>(a.boundary.size());
   const Vec2& p = m.gp[a.boundary[k]].x;
-  const Vec2& prev = m.gp[a.boundary[(k - 1 + n) % n]].x;
-  const Vec2& next = m.gp[a.boundary[(k + 1) % n]].x;
-  const double l1 = (p - prev).norm(), l2 = (next - p).norm();
-  const Vec2 e1 = (p - prev) / l1, e2 = (next - p) / l2;
-  double t, r;
-  corner_rounding(e1, e2, l1, l2, d, t, r);
+  const double t = geo[k].t, r = geo[k].r;
   if (r <= 0.0) return;
-  const Vec2 own_centre = p + t * e2 - r * Vec2(e2.y(), -e2.x());
+  const Vec2 own_centre = p + t * geo[k].u - r * geo[k].nrm;
   const Vec2 join = own_centre - pr.centre;
   const double jn = join.norm();
   if (jn < 1e-14) return;
@@ -287,6 +268,8 @@ std::size_t detect_contacts(Model& m, const DetectionSettings& s) {
   found.clear();
   broad_phase_pairs(m, s.distance, buffers.pairs);
   const auto& pairs = buffers.pairs;
+  BoundaryGeometry& geometry = boundary_geometry();
+  geometry.update(m, m.contacts.rounding);
   // Candidate contacts of one point: one per own side that faces an edge of the other block, or
   // else one against the rounded boundary (see face_projection and corner_to_corner).
   struct Candidate {
@@ -294,15 +277,16 @@ std::size_t detect_contacts(Model& m, const DetectionSettings& s) {
     bool face;
     Projection pr;
   };
-  auto candidates = [&](const Block& A, int k, const Block& B, Candidate out[2]) -> int {
+  auto candidates = [&](const Block& A, const BoundaryEdge* ga, int k, const Block& B, const BoundaryEdge* gb,
+                        Candidate out[2]) -> int {
     const Vec2& p = m.gp[A.boundary[k]].x;
-    const OwnSide own0 = own_side(m, A, k, 0);
+    const OwnSide own0 = own_side(m, A, ga, k, 0);
     const int nsides = own0.flat ? 1 : 2;
-    const OwnSide own[2] = {own0, nsides == 2 ? own_side(m, A, k, 1) : own0};
+    const OwnSide own[2] = {own0, nsides == 2 ? own_side(m, A, ga, k, 1) : own0};
     int nf = 0;
     for (int side = 0; side < nsides; ++side) {
       bool face = false;
-      const Projection pr = closest_face(m, B, p, own[side], s.distance, face);
+      const Projection pr = closest_face(m, B, gb, p, own[side], s.distance, face);
       if (face) out[nf++] = {side, true, pr};
     }
     // Both edges of a corner face the other block: two contacts if they meet it along different
@@ -314,8 +298,8 @@ std::size_t detect_contacts(Model& m, const DetectionSettings& s) {
       nf = 1;
     }
     if (nf > 0) return nf;
-    Projection pr = closest_edge(m, B, p, m.contacts.rounding, s.distance);
-    if (nsides == 2) corner_to_corner(m, A, k, m.contacts.rounding, pr);
+    Projection pr = closest_edge(m, B, gb, p, m.contacts.rounding, s.distance);
+    if (nsides == 2) corner_to_corner(m, A, ga, k, pr);
     // Key the contact by the own side that faces it best, so that a contact moving between the
     // face and the rounded descriptions keeps its key and its state.
     const int side = nsides == 2 && own[1].normal.dot(pr.normal) < own[0].normal.dot(pr.normal) ? 1 : 0;
@@ -326,13 +310,15 @@ std::size_t detect_contacts(Model& m, const DetectionSettings& s) {
     const Block& A = m.blocks[ia];
     const Block& B = m.blocks[ib];
     const Box bb = block_box(m, B, s.distance);
+    const BoundaryEdge* ga = geometry.of(ia);
+    const BoundaryEdge* gb = geometry.of(ib);
     const int na = static_cast<int>(A.boundary.size());
     Candidate cand[2];
     for (int k = 0; k < na; ++k) {
       const int g = A.boundary[k];
       const Vec2& p = m.gp[g].x;
       if (p.x() < bb.lo.x() || p.x() > bb.hi.x() || p.y() < bb.lo.y() || p.y() > bb.hi.y()) continue;
-      const int nc = candidates(A, k, B, cand);
+      const int nc = candidates(A, ga, k, B, gb, cand);
       for (int ic = 0; ic < nc; ++ic) {
         const Projection& pr = cand[ic].pr;
         if (pr.dist > 10.0 * s.distance) continue;
@@ -368,22 +354,27 @@ std::size_t detect_contacts(Model& m, const DetectionSettings& s) {
 }
 
 void update_contact_geometry(Model& m) {
+  BoundaryGeometry& geometry = boundary_geometry();
+  geometry.update(m, m.contacts.rounding);
   for (Contact& c : m.contacts.items) {
     const Block& B = m.blocks[c.other];
-    const Block& A = m.blocks[m.gp[c.point].block];
+    const int ia = m.gp[c.point].block;
+    const Block& A = m.blocks[ia];
+    const BoundaryEdge* ga = geometry.of(ia);
+    const BoundaryEdge* gb = geometry.of(c.other);
     const int n = static_cast<int>(B.boundary.size());
     const Vec2& p = m.gp[c.point].x;
     int e = c.edge;
     // Face mode: slide along the facing edges of the other block, staying on the last one beyond
     // the face's end (see face_projection).
     Projection pr;
-    const OwnSide own = own_side(m, A, c.point_loop, c.key.side);
-    if (c.face_mode && face_projection(m, B, p, own, e, kInf, -kInf, pr)) {
+    const OwnSide own = own_side(m, A, ga, c.point_loop, c.key.side);
+    if (c.face_mode && face_projection(m, B, gb, p, own, e, kInf, -kInf, pr)) {
       const int dir = pr.s >= 1.0 ? 1 : -1;
       for (int it = 0; it < n && (dir > 0 ? pr.s >= 1.0 : pr.s <= 0.0); ++it) {
         const int next = (e + dir + n) % n;
         Projection q;
-        if (!face_projection(m, B, p, own, next, kInf, -kInf, q)) break;
+        if (!face_projection(m, B, gb, p, own, next, kInf, -kInf, q)) break;
         e = next;
         pr = q;
       }
@@ -411,8 +402,8 @@ void update_contact_geometry(Model& m) {
       break;
     }
     c.edge = e;
-    pr = project_rounded(m, B, p, e, m.contacts.rounding);
-    if (!own.flat) corner_to_corner(m, A, c.point_loop, m.contacts.rounding, pr);
+    pr = project_rounded(m, B, gb, p, e);
+    if (!own.flat) corner_to_corner(m, A, ga, c.point_loop, pr);
     c.s = pr.s;
     c.normal = pr.normal;
     c.overlap = -pr.dist;

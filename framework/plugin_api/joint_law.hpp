@@ -15,6 +15,12 @@
 //                        EffectChain&);                     // call chain.modify(ctx) once
 //   };
 //   ROCKDEM_REGISTER_JOINT_LAW(MyLaw, "summary", "reference");
+// Optionally, values computed from the parameters alone (tangents of fixed angles, scale
+// corrections), made once when the law is built instead of on every update:
+//     struct Derived { ... };
+//     static Derived derive(const Params&);
+//     static void update(const Params&, const Derived&, State&, const JointKinematics&,
+//                        JointResponse&, EffectChain&);     // instead of the form above
 // Optionally, what `rockdem calibrate` should know of it:
 //     static std::vector<std::string> fixed_by_default();  // parameters kept fixed unless freed
 #include <array>
@@ -156,13 +162,33 @@ class JointLawBase {
   virtual double initial_ks() const = 0;
 };
 
+namespace detail {
+// A law's Derived values (see the top of this file), or nothing.
+template <class Law>
+concept HasDerived = requires(const typename Law::Params& p) {
+  { Law::derive(p) } -> std::same_as<typename Law::Derived>;
+};
+struct NoDerived {};
+template <class Law>
+struct DerivedOf {
+  using type = NoDerived;
+};
+template <HasDerived Law>
+struct DerivedOf<Law> {
+  using type = typename Law::Derived;
+};
+}  // namespace detail
+
 template <class Law>
 class JointLawAdapter final : public JointLawBase {
  public:
   using Params = typename Law::Params;
   using State = typename Law::State;
+  using Derived = typename detail::DerivedOf<Law>::type;
   static_assert(std::is_trivially_copyable_v<State>, "joint-law State must be trivially copyable");
-  explicit JointLawAdapter(Params p) : p_(p) {}
+  explicit JointLawAdapter(Params p) : p_(p) {
+    if constexpr (detail::HasDerived<Law>) d_ = Law::derive(p_);
+  }
   const char* name() const override { return Law::name; }
   std::size_t state_size() const override { return sizeof(State); }
   std::size_t state_align() const override { return alignof(State); }
@@ -174,7 +200,8 @@ class JointLawAdapter final : public JointLawBase {
   void update(std::byte* s, const JointKinematics& k, JointResponse& r, EffectChain& chain) const override {
     State st;
     std::memcpy(&st, s, sizeof(State));
-    Law::update(p_, st, k, r, chain);
+    if constexpr (detail::HasDerived<Law>) Law::update(p_, d_, st, k, r, chain);
+    else Law::update(p_, st, k, r, chain);
     std::memcpy(s, &st, sizeof(State));
   }
   double initial_kn() const override { return Law::initial_kn(p_); }
@@ -183,6 +210,7 @@ class JointLawAdapter final : public JointLawBase {
 
  private:
   Params p_;
+  [[no_unique_address]] Derived d_{};
 };
 
 // What a law or an effect declares for calibration, in its own file (optional; the defaults are

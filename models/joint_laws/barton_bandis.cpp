@@ -179,9 +179,8 @@ struct RoughnessView {
 };
 }  // namespace
 
-void BartonBandis::update(const Params& p, State& s, const JointKinematics& k, JointResponse& r,
+void BartonBandis::update(const Params& p, const Derived& d, State& s, const JointKinematics& k, JointResponse& r,
                           EffectChain& chain) {
-  const Derived d = derive(p);
   const Closure cl{p.normal_closure == 1, p.kn, {d.kni, d.vm}, chain.normal()};
   const double u_s_before = s.u_s;
   s.u_s += k.du_s;

@@ -44,7 +44,7 @@ struct BartonBandis {
   // Shear strength sigma_n*tan(phi_r + JRC_mob log10(JCS/sigma_n)) (eq. 3-5 with JRC_mob) [Pa].
   static double strength(const Params& p, const Derived& d, double delta, double sigma_n);
   static void init(const Params& p, State& s);
-  static void update(const Params& p, State& s, const JointKinematics& k, JointResponse& r,
+  static void update(const Params& p, const Derived& d, State& s, const JointKinematics& k, JointResponse& r,
                      EffectChain& chain);
   static double initial_kn(const Params& p);
   static double initial_ks(const Params& p) { return p.ks; }

@@ -20,9 +20,12 @@ struct CoulombSlip {
     static std::vector<Param<Params>> spec();
   };
   using State = MohrCoulomb::State;
+  using Derived = MohrCoulomb::Derived;
+  static Derived derive(const Params& p) { return MohrCoulomb::derive(p); }
   static void init(const Params& p, State& s) { MohrCoulomb::init(p, s); }
-  static void update(const Params& p, State& s, const JointKinematics& k, JointResponse& r, EffectChain& chain) {
-    MohrCoulomb::update(p, s, k, r, chain);
+  static void update(const Params& p, const Derived& d, State& s, const JointKinematics& k, JointResponse& r,
+                     EffectChain& chain) {
+    MohrCoulomb::update(p, d, s, k, r, chain);
   }
   static double initial_kn(const Params& p) { return p.kn; }
   static double initial_ks(const Params& p) { return p.ks; }

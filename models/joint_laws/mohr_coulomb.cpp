@@ -54,7 +54,11 @@ void MohrCoulomb::init(const Params& p, State& s) {
   s.tension = p.tension;
 }
 
-void MohrCoulomb::update(const Params& p, State& s, const JointKinematics& k, JointResponse& r,
+MohrCoulomb::Derived MohrCoulomb::derive(const Params& p) {
+  return {std::tan(p.friction), std::tan(p.dilation_angle)};
+}
+
+void MohrCoulomb::update(const Params& p, const Derived& d, State& s, const JointKinematics& k, JointResponse& r,
                          EffectChain& chain) {
   const double u_s_before = s.u_s;
   s.u_s += k.du_s;
@@ -77,7 +81,7 @@ void MohrCoulomb::update(const Params& p, State& s, const JointKinematics& k, Jo
 
   const double sign = law_support::dilation_sign(p.dilation, u_s_before, k.du_s, p.critical_shear_disp,
                                                  s.ucs_reached);
-  const double tan_phi = std::tan(p.friction);
+  const double tan_phi = d.tan_friction;
   const double strength_tr = std::max(0.0, s.cohesion + sigma_tr * tan_phi);
   ShearContext ctx;
   ctx.sigma_n = sigma_tr;
@@ -87,7 +91,7 @@ void MohrCoulomb::update(const Params& p, State& s, const JointKinematics& k, Jo
   ctx.basic_friction = p.friction;
   ctx.roughness_angle = std::abs(u_s_before) < p.critical_shear_disp ? p.dilation_angle : 0.0;  // eq. 3-4
   ctx.strength = strength_tr;
-  ctx.dilation_rate = sign * std::tan(p.dilation_angle);
+  ctx.dilation_rate = sign * d.tan_dilation;
   ctx.toward_origin = u_s_before * k.du_s < 0.0;
   ctx.dt = k.dt;
   ctx.tau = s.tau;

@@ -18,6 +18,11 @@ struct MohrCoulomb {
     bool residual_after_failure;
     static std::vector<Param<Params>> spec();
   };
+  // tan(phi) and tan(psi), made once per parameter set instead of on every update.
+  struct Derived {
+    double tan_friction, tan_dilation;
+  };
+  static Derived derive(const Params& p);
   struct State {
     double sigma_n;       // [Pa] compression positive
     double tau;           // [Pa]
@@ -31,7 +36,7 @@ struct MohrCoulomb {
     bool ucs_reached;     // udec_legacy: u_cs has been reached at least once
   };
   static void init(const Params& p, State& s);
-  static void update(const Params& p, State& s, const JointKinematics& k, JointResponse& r,
+  static void update(const Params& p, const Derived& d, State& s, const JointKinematics& k, JointResponse& r,
                      EffectChain& chain);
   static double initial_kn(const Params& p) { return p.kn; }
   static double initial_ks(const Params& p) { return p.ks; }
