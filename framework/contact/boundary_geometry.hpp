@@ -4,7 +4,7 @@
 // real corner. Built once per call of detect_contacts and update_contact_geometry for the blocks
 // whose positions are current on this process, so that a point tested against an edge reads the
 // edge instead of recomputing it: before, every point against every edge of the other block took
-// a square root and a division, and every rounded projection six square roots and two corner
+// a square root and a division, and every rounded projection five square roots and two corner
 // roundings (issue 13, docs/performance.md). The values are those expressions computed once, in
 // the same order, so contacts come out bit for bit as before.
 #include <vector>

@@ -186,7 +186,8 @@ Projection closest_edge(const Model& m, const Block& b, const BoundaryEdge* geo,
   for (int i = 0; i < n; ++i) {
     // Cheap bounds first: the distance to the edge's box, then to the segment itself. The box test
     // only skips edges the segment test would skip (its margin, 1e-9 of the reach, is far above
-    // the round-off of either distance), without a division and a square root for each.
+    // the round-off of either distance for coordinates within kilometres of the origin at a
+    // millimetre reach), without a division and a square root for each.
     const BoundaryEdge& e = geo[i];
     const double reach = best_abs + d, box_reach = reach * (1.0 + 1e-9);
     if (e.lo.x() - p.x() > box_reach || p.x() - e.hi.x() > box_reach || e.lo.y() - p.y() > box_reach ||

@@ -174,7 +174,8 @@ void zone_forces(Model& m, double dt, double beta_stiffness) {
     // On the mid-step configuration a rigid turn by theta has spin (2/dt) tan(theta/2) (Cayley
     // transform): the stress turns by exactly theta, whose cosine and sine follow from
     // tau = tan(theta/2) without trigonometric functions: cos = (1 - tau^2)/(1 + tau^2),
-    // sin = 2 tau/(1 + tau^2) (the atan, sin and cos they replace were a quarter of the zone loop).
+    // sin = 2 tau/(1 + tau^2) (the atan, sin and cos they replace took 18 % of a laboratory DEM
+    // run; docs/performance.md).
     const double tau = 0.5 * spin * dt;
     if (tau != 0.0) {
       const double inv1 = 1.0 / (1.0 + tau * tau);
