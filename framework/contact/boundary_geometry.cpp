@@ -4,10 +4,13 @@
 #include <cmath>
 
 namespace rockdem {
+namespace {
 
-// tan(th/2) = sin th / (1 + cos th). A boundary gridpoint of a deformable block on a straight face
-// turns by a tiny angle, and rounding it would bend the normal of points that merely pass over it,
-// so turns under 5 degrees are not rounded.
+// Tangent length t and radius r of the rounding at a vertex where the unit boundary direction turns
+// from e1 to e2 (left turns are convex on a counter-clockwise loop), with rounding length d and
+// adjacent edge lengths l1, l2; tan(th/2) = sin th / (1 + cos th). Only real corners are rounded:
+// a boundary gridpoint of a deformable block on a straight face turns by a tiny angle, and
+// rounding it would bend the normal of points that merely pass over it.
 constexpr double kSin5 = 0.08715574274765817;  // sin(5 degrees)
 
 void corner_rounding(const Vec2& e1, const Vec2& e2, double l1, double l2, double d, double& t, double& r) {
@@ -18,6 +21,8 @@ void corner_rounding(const Vec2& e1, const Vec2& e2, double l1, double l2, doubl
   t = std::min({d * h, 0.5 * l1, 0.5 * l2});
   r = t / h;
 }
+
+}  // namespace
 
 void BoundaryGeometry::update(const Model& m, double rounding) {
   const std::size_t nb = m.blocks.size();

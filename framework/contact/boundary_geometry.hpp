@@ -42,11 +42,6 @@ class BoundaryGeometry {
   std::vector<BoundaryEdge> edges_;
 };
 
-// Tangent length t and radius r of the rounding at a vertex where the unit boundary direction turns
-// from e1 to e2 (left turns are convex on a counter-clockwise loop), with rounding length d and
-// adjacent edge lengths l1, l2. Only real corners are rounded.
-void corner_rounding(const Vec2& e1, const Vec2& e2, double l1, double l2, double d, double& t, double& r);
-
 // The table of this thread, kept between calls (its storage reused).
 BoundaryGeometry& boundary_geometry();
 
