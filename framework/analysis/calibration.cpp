@@ -16,6 +16,7 @@
 #include <Eigen/Dense>
 
 #include "framework/analysis/calibration_fit.hpp"
+#include "framework/core/did_you_mean.hpp"
 #include "framework/core/error.hpp"
 #include "framework/core/names.hpp"
 #include "framework/plugin_api/joint_law.hpp"
@@ -108,10 +109,14 @@ Slot& find_slot(std::vector<Slot>& slots, const std::string& name, const std::st
     if (s.effect >= 0 && s.info.name == name) hit = &s, ++matches;
   }
   if (matches == 1) return *hit;
-  std::vector<std::string> names;
-  for (const auto& s : slots) names.push_back(s.name);
+  std::vector<std::string> names, candidates;
+  for (const auto& s : slots) {
+    names.push_back(s.name);
+    candidates.push_back(s.name);
+    if (s.effect >= 0) candidates.push_back(s.info.name);  // an effect's parameter may go unqualified
+  }
   throw InputError(what + ": unknown parameter '" + name + "'" +
-                   (matches > 1 ? " (several effects have it: write effect.param)" : "") +
+                   (matches > 1 ? " (several effects have it: write effect.param)" : did_you_mean(name, candidates)) +
                    "; real parameters of " + options.law +
                    (options.effects.empty() ? "" : " + " + join_names(options.effects)) + ": " + join_names(names));
 }

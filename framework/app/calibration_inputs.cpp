@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <sstream>
 
+#include "framework/core/did_you_mean.hpp"
 #include "framework/core/error.hpp"
 #include "framework/io/toml_values.hpp"
 #include "framework/lab/lab_case.hpp"
@@ -46,7 +47,10 @@ void set_value(const std::string& arg, CalibrationOptions& o) {
   }
   const std::string effect = name.substr(0, dot);
   if (std::find(o.effects.begin(), o.effects.end(), effect) == o.effects.end()) {
-    throw InputError("--set " + arg + ": effect '" + effect + "' is not in --effects");
+    std::string given;
+    for (const auto& e : o.effects) given += (given.empty() ? "" : ", ") + e;
+    throw InputError("--set " + arg + ": effect '" + effect + "' is not in --effects" + did_you_mean(effect, o.effects) +
+                     (given.empty() ? "; no effects were given (--effects NAME,...)" : "; --effects gives: " + given));
   }
   o.effect_values[effect][name.substr(dot + 1)] = raw;
 }

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # `rockdem calibrate` and `rockdem diagnose` on bad input: an unknown law lists the valid ones,
-# --fix of an unknown parameter lists the real parameters, a value without its unit or out of
+# --fix of an unknown parameter lists the real parameters and suggests the nearest (--set of an
+# effect not in --effects suggests the nearest given), a value without its unit or out of
 # range is refused, a missing or broken record names the file; all with exit code 2. A record
 # without reverse shearing gets a warning naming the effects that cannot be judged. A good
 # record calibrates with exit 0 and writes the JSON.
@@ -24,7 +25,13 @@ expect unknown_law 2 calibrate --data "$twin" --law mohr_colomb -- "unknown join
 expect unknown_effect 2 calibrate --data "$twin" --law mohr_coulomb --effects reverse_shear -- \
   "unknown effect 'reverse_shear'" "reverse_shear_degradation"
 expect fix_unknown 2 calibrate --data "$twin" --law mohr_coulomb --fix frictoin="30 deg" -- \
-  "unknown parameter 'frictoin'" "friction" "dilation_angle"
+  "unknown parameter 'frictoin'" "did you mean 'friction'?" "dilation_angle"
+expect fix_effect_typo 2 calibrate --data "$twin" --law mohr_coulomb --effects reverse_shear_degradation \
+  --fix reverse_shear_degradation.wieght=1 -- "unknown parameter 'reverse_shear_degradation.wieght'" \
+  "did you mean 'reverse_shear_degradation.weight'?"
+expect set_effect_typo 2 calibrate --data "$twin" --law mohr_coulomb --effects reverse_shear_degradation \
+  --set revers_shear_degradation.weight=1 -- "effect 'revers_shear_degradation' is not in --effects" \
+  "did you mean 'reverse_shear_degradation'?"
 expect fix_no_unit 2 calibrate --data "$twin" --law mohr_coulomb --fix friction=30 -- "friction" "has no unit"
 expect fix_range 2 calibrate --data "$twin" --law mohr_coulomb --fix friction="95 deg" -- "out of range"
 expect fix_syntax 2 calibrate --data "$twin" --law mohr_coulomb --fix friction -- "write NAME=VALUE"
