@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <thread>
@@ -343,16 +344,29 @@ class DiagnosisRun {
     try {
       // Two starts: warm (the baseline's values, which may have bent to make up for the missing
       // effect) and cold (the data estimates); the lower BIC wins.
+      // Either start may fail outright (the model joint lifting off at the baseline's values, as
+      // Continuously-Yielding's did on test 14): the other is still tried, and a fit that came
+      // only from the second start says why the first gave none.
       const CalibrationOptions warm = options_for({t.effect}, d_.baseline, threads);
       CalibrationOptions cold = warm;
       cold.start.clear();
-      t.fit = calibrate(data_, seg_, warm);
+      std::optional<CalibrationResult> best;
+      std::string warm_error, cold_error;
+      try {
+        best = calibrate(data_, seg_, warm);
+      } catch (const std::exception& e) {
+        warm_error = e.what();
+      }
       try {
         CalibrationResult other = calibrate(data_, seg_, cold);
-        if (other.rss < t.fit.rss) t.fit = std::move(other);
-      } catch (const std::exception&) {
-        // the warm start's fit stands
+        if (!best || other.rss < best->rss) best = std::move(other);
+      } catch (const std::exception& e) {
+        cold_error = e.what();
       }
+      if (!best)
+        throw InputError("from the baseline's values: " + warm_error + "; from the record's estimates: " + cold_error);
+      t.fit = std::move(*best);
+      if (!warm_error.empty()) t.fit.warnings.push_back("the start from the baseline's values failed (" + warm_error + "); fitted from the record's estimates");
       count_parameters(t.fit, law_free_.size(), {t.effect});
       t.delta_bic = t.fit.bic - d_.baseline.bic;
       t.fitted = t.fit.status != "failed" || t.fit.rss < d_.baseline.rss;
