@@ -100,7 +100,18 @@ class ElementDriver {
   const JointModel& model_for(const ElementStage& s) const { return s.model ? *s.model : model_; }
   bool frame() const { return opt_.frame_stiffness > 0.0; }
   void solve_normal(const ElementStage& stage, double du_s, double dt);
+  // solve_normal, halving the increment (down to 1/64) where it cannot meet the normal condition.
+  void solve_substepped(const ElementStage& stage, double du_s, double dt, int depth);
   void frame_step(const ElementStage& stage, double du_load, double dt);
+  // The driver's state, to try an increment and go back.
+  struct Snapshot {
+    JointStateBlock state;
+    JointResponse r;
+    double time, dissipated, u_n, last_du_n, last_slope;
+    long steps, unconverged;
+  };
+  Snapshot snapshot() const { return {state_, r_, time_, dissipated_, u_n_, last_du_n_, last_slope_, steps_, unconverged_}; }
+  void restore(const Snapshot& s);
   void append_row(MeasurementFile& out, int stage) const;
 
   const JointModel& model_;

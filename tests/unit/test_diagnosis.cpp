@@ -8,7 +8,6 @@
 #include <cmath>
 #include <cstdio>
 #include <random>
-#include <set>
 
 #include "tests/unit/noisy_record.hpp"
 #include "framework/analysis/diagnosis.hpp"
@@ -146,12 +145,12 @@ TEST(Diagnosis, ARungMustLowerTheBicAndTheReportedError) {
 // Blind: one hidden effect drawn from those a two-sided constant-rate record can reveal, with
 // non-default parameters, and a noisy record, both from a seed. The seeds are 1 to 24 (both
 // effects, twelve of each), not the clock: a clock seed made CI fail about one run in twelve,
-// on the known defect below. ROCKDEM_BLIND_SEED runs one seed instead.
-// Every rung must lower the reported error. Known defect (issue 15): with dilation_recovery
-// hidden, some noise realisations (seeds 6 and 33975) get the effect ranked first and added, but
-// its refit cuts the combined NRMSE by less than 30 % (0.145 to 0.127 for seed 6, 0.145 to 0.107
-// for seed 33975): the fit does not find the hidden parameters. Those seeds are checked to still
-// lack the cut, so that a fix shows here.
+// on the defect below (now fixed). ROCKDEM_BLIND_SEED runs one seed instead.
+// Every rung must lower the reported error, and the first, the hidden effect, cut it by 30 % or
+// more. Seeds 6 and 33975 (dilation_recovery hidden) used not to: its refit ended at 0.127 and
+// 0.107 from 0.145, because at the fitting step the model joint lifted off for some of the
+// parameter values the fit tried; with the element driver halving such increments both end at
+// 0.0014 (the record's noise). 33975 is run as well as 1 to 24.
 TEST(Diagnosis, BlindHiddenEffectIsRankedFirstAndCutsTheError) {
   struct Hidden {
     const char* effect;
@@ -161,12 +160,12 @@ TEST(Diagnosis, BlindHiddenEffectIsRankedFirstAndCutsTheError) {
       {"reverse_shear_degradation", {{"weight", RawValue{2.5, "test"}}}},
       {"dilation_recovery", {{"residual_fraction", RawValue{0.4, "test"}}, {"hysteresis", RawValue{0.8, "test"}}}},
   };
-  const std::set<unsigned> known_no_cut{6, 33975};
   std::vector<unsigned> seeds;
   if (const char* env = std::getenv("ROCKDEM_BLIND_SEED")) {
     seeds.push_back(static_cast<unsigned>(std::stoul(env)));
   } else {
     for (unsigned k = 1; k <= 24; ++k) seeds.push_back(k);
+    seeds.push_back(33975);
   }
   for (const unsigned seed : seeds) {
     std::mt19937 rng(seed);
@@ -191,12 +190,10 @@ TEST(Diagnosis, BlindHiddenEffectIsRankedFirstAndCutsTheError) {
     }
     const bool first = d.ladder.size() >= 2 && d.ladder[1].effects.front() == h.effect;
     const bool cut = first && d.ladder[1].fit.nrmse[2] < 0.7 * d.baseline.nrmse[2];  // a cut of 30 % or more
-    if (known_no_cut.count(seed)) {
-      EXPECT_FALSE(cut) << "seed " << seed << ": the known defect is gone; take the seed out of known_no_cut";
-    } else {
-      EXPECT_TRUE(first) << "seed " << seed << "\n" << format_report(d);
-      EXPECT_TRUE(cut) << "seed " << seed << ": " << (d.ladder.size() >= 2 ? d.ladder[1].fit.nrmse[2] : NAN) << " against "
-                       << d.baseline.nrmse[2] << "\n" << format_report(d);
-    }
+    std::printf("  first ranked %s; combined NRMSE %.4f, first rung %s %.4f\n", d.ranking.front().effect.c_str(), d.baseline.nrmse[2],
+                d.ladder.size() >= 2 ? d.ladder[1].effects.front().c_str() : "(none)", d.ladder.size() >= 2 ? d.ladder[1].fit.nrmse[2] : NAN);
+    EXPECT_TRUE(first) << "seed " << seed << "\n" << format_report(d);
+    EXPECT_TRUE(cut) << "seed " << seed << ": " << (d.ladder.size() >= 2 ? d.ladder[1].fit.nrmse[2] : NAN) << " against "
+                     << d.baseline.nrmse[2] << "\n" << format_report(d);
   }
 }
