@@ -3,7 +3,9 @@
 // closes again at the same place with the shear stress of its total offset. The stresses are a
 // function of the offsets alone, whatever the path: nothing slips, dilates or is dissipated.
 // Not a model of a rock joint: it is the reference against which the other laws' accumulation is
-// judged (a drift shaken twice with it must respond the same way twice, docs/drift-study.md).
+// judged on paths that stay closed. Once a contact opens and closes it is not conservative: the
+// offset grows while it is open and the whole shear stress comes back on closing, energy no work
+// put in; a shaken drift with it gains energy and blows up (docs/theory/joint_laws.md).
 // Why no tension: a joint glued in tension keeps pulling on a corner that the block has carried
 // past the end of the edge it was glued to; in cases/drift/small.toml's first earthquake that
 // pulled a corner 0.25 m out at 5 GPa and the run went unstable. Effects may be composed with it
