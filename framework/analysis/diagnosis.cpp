@@ -343,8 +343,8 @@ class DiagnosisRun {
   void fit_trial(EffectTrial& t, int threads) const {
     try {
       // Two starts: warm (the baseline's values, which may have bent to make up for the missing
-      // effect) and cold (the data estimates); the lower BIC wins.
-      // Either start may fail outright (the model joint lifting off at the baseline's values, as
+      // effect) and cold (the data estimates); the lower RSS wins (same parameters, so the same
+      // ranking as by BIC). Either start may fail outright (the model joint lifting off at the baseline's values, as
       // Continuously-Yielding's did on test 14): the other is still tried, and a fit that came
       // only from the second start says why the first gave none.
       const CalibrationOptions warm = options_for({t.effect}, d_.baseline, threads);

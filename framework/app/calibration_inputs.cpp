@@ -6,6 +6,7 @@
 
 #include "framework/core/did_you_mean.hpp"
 #include "framework/core/error.hpp"
+#include "framework/core/names.hpp"
 #include "framework/io/toml_values.hpp"
 #include "framework/lab/lab_case.hpp"
 #include "framework/plugin_api/joint_law.hpp"
@@ -47,10 +48,8 @@ void set_value(const std::string& arg, CalibrationOptions& o) {
   }
   const std::string effect = name.substr(0, dot);
   if (std::find(o.effects.begin(), o.effects.end(), effect) == o.effects.end()) {
-    std::string given;
-    for (const auto& e : o.effects) given += (given.empty() ? "" : ", ") + e;
     throw InputError("--set " + arg + ": effect '" + effect + "' is not in --effects" + did_you_mean(effect, o.effects) +
-                     (given.empty() ? "; no effects were given (--effects NAME,...)" : "; --effects gives: " + given));
+                     (o.effects.empty() ? "; no effects were given (--effects NAME,...)" : "; --effects gives: " + join_names(o.effects)));
   }
   o.effect_values[effect][name.substr(dot + 1)] = raw;
 }

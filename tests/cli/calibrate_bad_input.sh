@@ -73,9 +73,8 @@ done
   >"$tmp/test14_start.csv"
 expect diag_lift_off 0 diagnose --data "$tmp/test14_start.csv" --law continuously_yielding \
   --effects reverse_shear_degradation --json "$tmp/lift.json" -- "baseline continuously_yielding" "reverse_shear_degradation"
-out=$("$bin" diagnose --data "$tmp/test14_start.csv" --law continuously_yielding --effects reverse_shear_degradation 2>&1)
 for bad in "fails at the fitting step" "fit failed" "start from the baseline's values failed"; do
-  grep -qF "$bad" <<<"$out" && { echo "FAIL diag_lift_off: '$bad' in: $out"; fail=1; }
+  grep -qF "$bad" "$tmp/lift.json" && { echo "FAIL diag_lift_off: '$bad' in the diagnosis"; fail=1; }
 done
 grep -q '"failed": true' "$tmp/lift.json" && { echo "FAIL diag_lift_off: an effect is marked failed"; fail=1; }
 
