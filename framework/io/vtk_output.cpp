@@ -26,6 +26,7 @@
 #include <stdexcept>
 
 #include "framework/core/error.hpp"
+#include "framework/mechanics/block_stress.hpp"
 #include "framework/model/model.hpp"
 
 namespace rockdem {
@@ -114,6 +115,14 @@ vtkNew<vtkStringArray> edge_label_names(const Model& m) {
   return names;
 }
 
+// A list of names as a field-data string array (category names for an integer array).
+vtkNew<vtkStringArray> name_list(const char* array_name, const std::vector<std::string>& names) {
+  vtkNew<vtkStringArray> a;
+  a->SetName(array_name);
+  for (const std::string& x : names) a->InsertNextValue(x);
+  return a;
+}
+
 }  // namespace
 
 // The .pvd is tiny; written to a temporary name and renamed so that a reader (or a crash) never
@@ -137,12 +146,15 @@ void write_pvd_collection(const std::filesystem::path& path, const std::vector<V
   std::filesystem::rename(tmp, path);
 }
 
+// Array names carry their unit (SI, as in the model: Pa, m, m/s) so that a colour legend in
+// ParaView reads without a manual; integer arrays that are categories have their names in a
+// field-data string array (`group_names`, `state_names`, `joint_names`, `edge_label_names`).
 void write_blocks_vtu(const Model& m, const std::string& path) {
   const auto np = static_cast<vtkIdType>(m.gp.size());
   vtkNew<vtkUnstructuredGrid> grid;
   auto pts = make_points(np);
-  auto disp = make_array("displacement", 3, np);
-  auto vel = make_array("velocity", 3, np);
+  auto disp = make_array("displacement_m", 3, np);
+  auto vel = make_array("velocity_m_per_s", 3, np);
   for (vtkIdType i = 0; i < np; ++i) {
     const GridPoint& g = m.gp[static_cast<std::size_t>(i)];
     pts->SetPoint(i, g.x.x(), g.x.y(), 0.0);
@@ -152,37 +164,50 @@ void write_blocks_vtu(const Model& m, const std::string& path) {
   grid->SetPoints(pts);
   grid->GetPointData()->AddArray(disp);
   grid->GetPointData()->AddArray(vel);
-  grid->GetPointData()->SetActiveVectors("displacement");  // the default for Warp By Vector
+  grid->GetPointData()->SetActiveVectors("displacement_m");  // the default for Warp By Vector
 
   vtkIdType ncell = 0;
   for (const Block& b : m.blocks) ncell += b.rigid ? 1 : b.n_zone;
   grid->Allocate(ncell);
-  auto stress = make_array("stress", 6, ncell);
+  auto stress = make_array("stress_Pa", 6, ncell);
   const char* comp[6] = {"XX", "YY", "ZZ", "XY", "YZ", "XZ"};
   for (int c = 0; c < 6; ++c) stress->SetComponentName(c, comp[c]);
   auto block_id = make_int_array("block_id", ncell);
+  vtkNew<vtkStringArray> block_name;
+  block_name->SetName("block_name");
+  block_name->SetNumberOfValues(ncell);
   auto rigid = make_int_array("rigid", ncell);
   auto group = make_int_array("group", ncell);
+  auto from = make_int_array("stress_from", ncell);
   // The process that computes each block in a domain-decomposed run (0 in a serial one).
   auto process = make_int_array("process", ncell);
 
-  const double nan = std::numeric_limits<double>::quiet_NaN();
+  // Rigid blocks have no strain, hence no constitutive stress: they show the mean stress the
+  // forces on their boundary put on them (block_stress.hpp), with ZZ = 0 (no out-of-plane stress
+  // is defined without an elastic law); a held one (fixed or driven) NaN, its reactions unknown.
+  // `stress_from` says which: 1 zone, 2 rigid block's boundary forces, 0 none (names in
+  // `stress_from_names`), so that a Threshold on it shows only the known stresses.
+  std::vector<Voigt3> mean;
+  const bool any_rigid = std::any_of(m.blocks.begin(), m.blocks.end(), [](const Block& b) { return b.rigid; });
+  if (any_rigid) mean = block_mean_stress(m);
   std::vector<vtkIdType> ids;
   vtkIdType cell = 0;
   for (const Block& b : m.blocks) {
+    const auto bi = static_cast<std::size_t>(&b - m.blocks.data());
     auto tag = [&](vtkIdType c) {
       block_id->SetValue(c, id_value(b.id));
+      block_name->SetValue(c, b.name);
       rigid->SetValue(c, b.rigid ? 1 : 0);
       group->SetValue(c, b.group);
-      process->SetValue(c, m.part.decomposed() ? m.part.owner[static_cast<std::size_t>(&b - m.blocks.data())] : 0);
+      process->SetValue(c, m.part.decomposed() ? m.part.owner[bi] : 0);
     };
     if (b.rigid) {
       ids.assign(b.boundary.begin(), b.boundary.end());
       grid->InsertNextCell(VTK_POLYGON, static_cast<vtkIdType>(ids.size()), ids.data());
-      // A rigid block has no strain, hence no constitutive stress: NaN shows as "no value" in
-      // ParaView instead of a misleading zero.
-      const double s[6] = {nan, nan, nan, nan, nan, nan};
+      const bool known = block_stress_known(b);
+      const double s[6] = {mean[bi][0], mean[bi][1], known ? 0.0 : std::numeric_limits<double>::quiet_NaN(), mean[bi][2], 0.0, 0.0};
       stress->SetTuple(cell, s);
+      from->SetValue(cell, known ? 2 : 0);
       tag(cell++);
       continue;
     }
@@ -192,14 +217,19 @@ void write_blocks_vtu(const Model& m, const std::string& path) {
       grid->InsertNextCell(VTK_TRIANGLE, 3, tri);
       const double s[6] = {zn.stress[0], zn.stress[1], zn.szz, zn.stress[2], 0.0, 0.0};
       stress->SetTuple(cell, s);
+      from->SetValue(cell, 1);
       tag(cell++);
     }
   }
   grid->GetCellData()->AddArray(stress);
   grid->GetCellData()->AddArray(block_id);
+  grid->GetCellData()->AddArray(block_name);
+  grid->GetCellData()->AddArray(from);
   grid->GetCellData()->AddArray(rigid);
   grid->GetCellData()->AddArray(group);
   grid->GetCellData()->AddArray(process);
+  grid->GetFieldData()->AddArray(name_list("group_names", m.contacts.group_names));
+  grid->GetFieldData()->AddArray(name_list("stress_from_names", {"none (held rigid block)", "zone", "rigid block boundary forces"}));
   write_grid(grid, path);
 }
 
@@ -208,11 +238,11 @@ void write_contacts_vtu(const Model& m, const std::string& path) {
   const auto n = static_cast<vtkIdType>(items.size());
   vtkNew<vtkUnstructuredGrid> grid;
   auto pts = make_points(n);
-  auto sn = make_array("normal_stress", 1, n);
-  auto ss = make_array("shear_stress", 1, n);
-  auto us = make_array("shear_displacement", 1, n);
-  auto un = make_array("normal_displacement", 1, n);
-  auto len = make_array("length", 1, n);
+  auto sn = make_array("normal_stress_Pa", 1, n);
+  auto ss = make_array("shear_stress_Pa", 1, n);
+  auto us = make_array("shear_displacement_m", 1, n);
+  auto un = make_array("normal_displacement_m", 1, n);
+  auto len = make_array("length_m", 1, n);
   auto nrm = make_array("normal", 3, n);
   auto state = make_int_array("state", n);
   auto pb = make_int_array("point_block", n);
@@ -236,8 +266,7 @@ void write_contacts_vtu(const Model& m, const std::string& path) {
     un->SetValue(i, c.response.u_n);
     len->SetValue(i, c.length);
     nrm->SetTuple3(i, c.normal.x(), c.normal.y(), 0.0);
-    // Open wins over slipping: an open joint carries no shear stress, whatever the slip flag says.
-    state->SetValue(i, c.response.open ? 2 : (c.response.slipping ? 1 : 0));
+    state->SetValue(i, c.state_category());
     pb->SetValue(i, id_value(c.key.point_block));
     ob->SetValue(i, id_value(c.key.other_block));
     joint->SetValue(i, c.joint);
@@ -261,7 +290,12 @@ void write_contacts_vtu(const Model& m, const std::string& path) {
                           static_cast<vtkDataArray*>(label), static_cast<vtkDataArray*>(bridge),
                           static_cast<vtkDataArray*>(process)})
     pd->AddArray(a);
-  grid->GetFieldData()->AddArray(edge_label_names(m));
+  // The joint a contact follows by its model's case-file name: a loading frame's or platen's
+  // contacts are told from the rock joint's by it.
+  auto* fd = grid->GetFieldData();
+  fd->AddArray(name_list("state_names", {std::begin(kContactStateNames), std::end(kContactStateNames)}));
+  fd->AddArray(name_list("joint_names", m.contacts.model_names));
+  fd->AddArray(edge_label_names(m));
   pd->SetActiveVectors("normal");  // the default orientation for Glyph
   write_grid(grid, path);
 }

@@ -322,9 +322,7 @@ void Engine::contact_forces() {
     }
     m_.contacts.models[c.joint]->update(c.state, k, c.response);
     c.fresh = false;
-    // Force on the point's block: compression pushes it away from the other block; shear resists
-    // the relative slip.
-    const Vec2 f = c.length * (c.response.sigma_n * c.normal - c.response.tau * t);
+    const Vec2 f = c.force();
     m_.gp[c.point].f += f;
     m_.gp[ga].f -= (1.0 - c.s) * f;
     m_.gp[gb].f -= c.s * f;

@@ -68,7 +68,20 @@ struct Contact {
   JointStateBlock state;      // joint-law history (base law and effects)
   JointResponse response;     // last response (stresses, offsets, slip/open)
   bool fresh = true;          // created at the last detection, law state just initialised
+
+  // Force of the last response on the point's block [N per m of thickness]; the other block gets
+  // the opposite at the projection point. Compression pushes the point away from the other block;
+  // shear resists the relative slip (tangent t = (n_y, -n_x), the direction du_s is measured in).
+  Vec2 force() const {
+    const Vec2 t(normal.y(), -normal.x());
+    return length * (response.sigma_n * normal - response.tau * t);
+  }
+  // The contact's state as a category for output (names in kContactStateNames). Open wins over
+  // slipping: an open joint carries no shear stress, whatever the slip flag says.
+  int state_category() const { return response.open ? 2 : (response.slipping ? 1 : 0); }
 };
+
+inline constexpr const char* kContactStateNames[3] = {"elastic", "slipping", "open"};
 
 // What a block edge made by the rock-mass generator lies on: a joint set or named joint (by its
 // name; empty for a glued cut that is no joint: a region's or an opening's outline) and whether

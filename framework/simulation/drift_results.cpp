@@ -23,7 +23,6 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr const char* kWallNames[4] = {"crown", "invert", "left_springline", "right_springline"};
-constexpr const char* kStateNames[3] = {"elastic", "slipping", "open"};  // JointRecord::state
 
 // "<n>_<stage>": the part of a stage's file names after their prefix (contacts_, joints_, blocks_).
 std::string stage_tag(std::size_t stage_number, const std::string& name) { return std::to_string(stage_number) + "_" + name; }
@@ -357,7 +356,7 @@ void DriftResults::write_files(const Model& m, std::size_t index, const std::vec
     os << format(r.x.x()) << "," << format(r.x.y()) << "," << sets_[static_cast<std::size_t>(r.set)] << ","
        << format(r.wall) << "," << format(r.slip) << "," << format(r.opening) << "," << format(r.aperture) << ","
        << format(r.length) << "," << format(r.normal.x()) << "," << format(r.normal.y()) << "," << format(r.sigma_n) << ","
-       << format(r.tau) << "," << kStateNames[r.state] << "\n";
+       << format(r.tau) << "," << kContactStateNames[r.state] << "\n";
   write_file_atomically(dir_ / ("contacts_" + stage_tag(index + 1, c_.stages[index].name) + ".csv"), os.str());
   write_vtk(m, index, joints, moved);
 }
@@ -381,7 +380,7 @@ std::vector<DriftResults::JointRecord> DriftResults::joint_records(const Model& 
     r.normal = c.normal;
     r.sigma_n = c.response.sigma_n;
     r.tau = c.response.tau;
-    r.state = c.response.open ? 2 : c.response.slipping ? 1 : 0;
+    r.state = c.state_category();
     out.push_back(r);
   }
   return out;
@@ -416,7 +415,7 @@ void DriftResults::write_vtk(const Model& m, std::size_t index, const std::vecto
                 {"shear_stress_Pa", tau}};
   jf.vectors = {{"normal", normal}};
   jf.ints = {{"joint_set", set}, {"state", state}};
-  jf.names = {{"joint_set_names", sets_}, {"state_names", {std::begin(kStateNames), std::end(kStateNames)}}};
+  jf.names = {{"joint_set_names", sets_}, {"state_names", {std::begin(kContactStateNames), std::end(kContactStateNames)}}};
   write_points_vtu(pts, jf, (dir_ / ("joints_" + tag + ".vtu")).string());
 
   std::map<BlockId, std::size_t> fell_in;

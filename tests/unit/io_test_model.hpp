@@ -76,6 +76,7 @@ inline Model make_io_test_model() {
   m.contacts.models.push_back(std::make_unique<JointModel>(std::make_unique<JointLawAdapter<CoulombSlip>>(p),
                                                            std::vector<std::unique_ptr<EffectBase>>{}));
   m.contacts.model_names = {"rock_joint"};
+  m.contacts.group_names = {"base", "top"};
   m.contacts.assignments = {{-1, -1, 0}};
 
   std::vector<Contact> cs(3);

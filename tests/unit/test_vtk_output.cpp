@@ -4,6 +4,8 @@
 #include <unistd.h>
 #include <vtkCellData.h>
 #include <vtkDataArray.h>
+#include <vtkFieldData.h>
+#include <vtkStringArray.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkUnstructuredGrid.h>
@@ -18,6 +20,7 @@
 #include <string>
 
 #include "framework/io/vtk_output.hpp"
+#include "framework/mechanics/block_stress.hpp"
 #include "io_test_model.hpp"
 
 namespace fs = std::filesystem;
@@ -63,6 +66,8 @@ TEST(VtkOutput, BlocksAndContactsReadBackWithValues) {
   const fs::path dir = temp_dir("grids");
   Model m = test::make_io_test_model();
   test::fill_io_test_state(m, 1.0);
+  m.blocks[0].fixed = false;  // a free rigid block: its stress is known from its boundary forces
+  m.blocks[0].prescribed = 0;
   m.step = 100;
   VtkSeries vtk(dir);
   vtk.write(m);
@@ -91,8 +96,8 @@ TEST(VtkOutput, BlocksAndContactsReadBackWithValues) {
     EXPECT_DOUBLE_EQ(x[1], m.gp[static_cast<std::size_t>(i)].x.y());
   }
 
-  vtkDataArray* disp = g->GetPointData()->GetArray("displacement");
-  vtkDataArray* vel = g->GetPointData()->GetArray("velocity");
+  vtkDataArray* disp = g->GetPointData()->GetArray("displacement_m");
+  vtkDataArray* vel = g->GetPointData()->GetArray("velocity_m_per_s");
   ASSERT_NE(disp, nullptr);
   ASSERT_NE(vel, nullptr);
   EXPECT_EQ(disp->GetNumberOfComponents(), 3);
@@ -105,12 +110,22 @@ TEST(VtkOutput, BlocksAndContactsReadBackWithValues) {
     EXPECT_DOUBLE_EQ(vel->GetComponent(i, 1), p.v.y());
   }
 
-  vtkDataArray* stress = g->GetCellData()->GetArray("stress");
+  vtkDataArray* stress = g->GetCellData()->GetArray("stress_Pa");
   vtkDataArray* bid = g->GetCellData()->GetArray("block_id");
   ASSERT_NE(stress, nullptr);
   ASSERT_NE(bid, nullptr);
   ASSERT_EQ(stress->GetNumberOfComponents(), 6);
-  EXPECT_TRUE(std::isnan(stress->GetComponent(0, 0)));  // rigid block: no stress
+  // The rigid block shows the mean stress of the forces on its boundary, ZZ undefined (0).
+  const Voigt3 rigid_mean = block_mean_stress(m)[0];
+  EXPECT_TRUE(std::isfinite(rigid_mean[1]));
+  EXPECT_DOUBLE_EQ(stress->GetComponent(0, 0), rigid_mean[0]);
+  EXPECT_DOUBLE_EQ(stress->GetComponent(0, 1), rigid_mean[1]);
+  EXPECT_EQ(stress->GetComponent(0, 2), 0.0);
+  EXPECT_DOUBLE_EQ(stress->GetComponent(0, 3), rigid_mean[2]);
+  vtkDataArray* from = g->GetCellData()->GetArray("stress_from");
+  ASSERT_NE(from, nullptr);
+  EXPECT_EQ(from->GetComponent(0, 0), 2);  // rigid block's boundary forces
+  EXPECT_EQ(from->GetComponent(1, 0), 1);  // zone
   for (int z = 0; z < 2; ++z) {
     const Zone& zn = m.zones[static_cast<std::size_t>(z)];
     EXPECT_DOUBLE_EQ(stress->GetComponent(1 + z, 0), zn.stress[0]);  // XX
@@ -122,14 +137,23 @@ TEST(VtkOutput, BlocksAndContactsReadBackWithValues) {
   EXPECT_EQ(bid->GetComponent(0, 0), 0);
   EXPECT_EQ(bid->GetComponent(1, 0), 1);
   EXPECT_EQ(bid->GetComponent(2, 0), 1);
+  // Names: each cell's block by name, and the group names for the `group` index.
+  auto* bname = vtkStringArray::SafeDownCast(g->GetCellData()->GetAbstractArray("block_name"));
+  ASSERT_NE(bname, nullptr);
+  EXPECT_EQ(bname->GetValue(0), "base");
+  EXPECT_EQ(bname->GetValue(2), "top");
+  auto* gnames = vtkStringArray::SafeDownCast(g->GetFieldData()->GetAbstractArray("group_names"));
+  ASSERT_NE(gnames, nullptr);
+  ASSERT_EQ(gnames->GetNumberOfValues(), 2);
+  EXPECT_EQ(gnames->GetValue(1), "top");
 
   auto c = read_vtu(dir / "contacts_000000100.vtu");
   ASSERT_EQ(c->GetNumberOfPoints(), 3);
   ASSERT_EQ(c->GetNumberOfCells(), 3);
   EXPECT_EQ(c->GetCellType(2), VTK_VERTEX);
   auto* pd = c->GetPointData();
-  for (const char* name : {"normal_stress", "shear_stress", "shear_displacement", "normal_displacement", "state",
-                           "length", "normal"})
+  for (const char* name : {"normal_stress_Pa", "shear_stress_Pa", "shear_displacement_m", "normal_displacement_m", "state",
+                           "length_m", "normal"})
     ASSERT_NE(pd->GetArray(name), nullptr) << name;
   for (vtkIdType i = 0; i < 3; ++i) {
     const Contact& k = m.contacts.items[static_cast<std::size_t>(i)];
@@ -137,17 +161,37 @@ TEST(VtkOutput, BlocksAndContactsReadBackWithValues) {
     c->GetPoint(i, x);
     EXPECT_DOUBLE_EQ(x[0], m.gp[static_cast<std::size_t>(k.point)].x.x());
     EXPECT_DOUBLE_EQ(x[1], m.gp[static_cast<std::size_t>(k.point)].x.y());
-    EXPECT_DOUBLE_EQ(pd->GetArray("normal_stress")->GetComponent(i, 0), k.response.sigma_n);
-    EXPECT_DOUBLE_EQ(pd->GetArray("shear_stress")->GetComponent(i, 0), k.response.tau);
-    EXPECT_DOUBLE_EQ(pd->GetArray("shear_displacement")->GetComponent(i, 0), k.response.u_s);
-    EXPECT_DOUBLE_EQ(pd->GetArray("normal_displacement")->GetComponent(i, 0), k.response.u_n);
-    EXPECT_DOUBLE_EQ(pd->GetArray("length")->GetComponent(i, 0), k.length);
+    EXPECT_DOUBLE_EQ(pd->GetArray("normal_stress_Pa")->GetComponent(i, 0), k.response.sigma_n);
+    EXPECT_DOUBLE_EQ(pd->GetArray("shear_stress_Pa")->GetComponent(i, 0), k.response.tau);
+    EXPECT_DOUBLE_EQ(pd->GetArray("shear_displacement_m")->GetComponent(i, 0), k.response.u_s);
+    EXPECT_DOUBLE_EQ(pd->GetArray("normal_displacement_m")->GetComponent(i, 0), k.response.u_n);
+    EXPECT_DOUBLE_EQ(pd->GetArray("length_m")->GetComponent(i, 0), k.length);
     EXPECT_DOUBLE_EQ(pd->GetArray("normal")->GetComponent(i, 1), k.normal.y());
   }
   // fill_io_test_state: contact 0 elastic, 1 slipping, 2 open.
   EXPECT_EQ(pd->GetArray("state")->GetComponent(0, 0), 0);
   EXPECT_EQ(pd->GetArray("state")->GetComponent(1, 0), 1);
   EXPECT_EQ(pd->GetArray("state")->GetComponent(2, 0), 2);
+  {  // a held rigid block's reactions are unknown: no stress, and stress_from says so
+    m.blocks[0].fixed = true;
+    m.step = 101;
+    vtk.write(m);
+    auto held = read_vtu(dir / "blocks_000000101.vtu");
+    EXPECT_TRUE(std::isnan(held->GetCellData()->GetArray("stress_Pa")->GetComponent(0, 1)));
+    EXPECT_EQ(held->GetCellData()->GetArray("stress_from")->GetComponent(0, 0), 0);
+    EXPECT_EQ(held->GetCellData()->GetArray("stress_from")->GetComponent(1, 0), 1);
+  }
+  // The categories' names and the joint models' names travel with the file.
+  auto* snames = vtkStringArray::SafeDownCast(c->GetFieldData()->GetAbstractArray("state_names"));
+  ASSERT_NE(snames, nullptr);
+  ASSERT_EQ(snames->GetNumberOfValues(), 3);
+  EXPECT_EQ(snames->GetValue(0), "elastic");
+  EXPECT_EQ(snames->GetValue(1), "slipping");
+  EXPECT_EQ(snames->GetValue(2), "open");
+  auto* jnames = vtkStringArray::SafeDownCast(c->GetFieldData()->GetAbstractArray("joint_names"));
+  ASSERT_NE(jnames, nullptr);
+  ASSERT_EQ(jnames->GetNumberOfValues(), 1);
+  EXPECT_EQ(jnames->GetValue(0), "rock_joint");
   fs::remove_all(dir);
 }
 

@@ -20,6 +20,7 @@
 #include <string>
 #include <unistd.h>
 
+#include "framework/mechanics/block_stress.hpp"
 #include "framework/simulation/run_case.hpp"
 
 using namespace rockdem;
@@ -147,6 +148,22 @@ TEST_P(EqualWidthStack, ClosuresNormalsAndNoLateralMotion) {
     // 0.50520 mm (lower, on the rigid base), issue 10 item 1.
     EXPECT_NEAR(-dl.y(), lower_sigma / kKn, 0.01 * lower_sigma / kKn);
     EXPECT_NEAR(dl.y() - du.y(), upper_sigma / kKn, 0.01 * upper_sigma / kKn);
+  }
+  if (p.rigid && !p.hold_spin) {
+    // The rigid blocks' mean stresses (block_stress.hpp; what the VTK fields show for them): the
+    // top load plus the weight above the centroid, vertical; nothing horizontal, no shear.
+    const auto mean = block_mean_stress(c.model);
+    const Voigt3 su = mean[static_cast<std::size_t>(c.block_index("upper", "test"))];
+    const Voigt3 sl = mean[static_cast<std::size_t>(c.block_index("lower", "test"))];
+    const double want_u = kTop + 0.5 * kRho * kG, want_l = kTop + 1.5 * kRho * kG;
+    std::cout << "  mean stresses: upper (" << su.transpose() << ") Pa, lower (" << sl.transpose() << ") Pa; closed form syy "
+              << -want_u << ", " << -want_l << "\n";
+    EXPECT_NEAR(su[1], -want_u, 1e-4 * want_u);
+    EXPECT_NEAR(sl[1], -want_l, 1e-4 * want_l);
+    for (int k : {0, 2}) {
+      EXPECT_LT(std::abs(su[k]), 1e-6 * kTop);
+      EXPECT_LT(std::abs(sl[k]), 1e-6 * kTop);
+    }
   }
 }
 
