@@ -1,4 +1,4 @@
-// `rockdem compare --data MEASURED.csv --model MODEL.csv [--json OUT] [--plot DIR] [--quiet]`, or
+// `rockdem compare --data MEASURED.csv --model MODEL.csv [--json OUT] [--plot DIR [--overwrite]] [--quiet]`, or
 // `--case CASE.toml` instead of --model to run the laboratory-test case as an element test first:
 // aligns a model record on a measured one by shear displacement (framework/analysis/compare.hpp),
 // prints the error table and the worst segments in words, writes the JSON and, with --plot, the
@@ -47,6 +47,8 @@ const CommandRegistrar reg{Command{
       sub.add_option("--save-model", *save_model, "with --case: write the model record here");
       sub.add_option("--json", *json, "write the full comparison as JSON to this file");
       sub.add_option("--plot", *plot, "write the figure <model name>.png into this folder");
+      auto overwrite = std::make_shared<bool>(false);
+      sub.add_flag("--overwrite", *overwrite, "replace the files --plot writes if they exist");
       sub.add_flag("--quiet", *quiet, "print nothing but errors");
       sub.add_option("--reversal-fraction", opt->segmentation.reversal_fraction,
                      "reversal threshold as a fraction of each stage's displacement range")
@@ -65,6 +67,22 @@ const CommandRegistrar reg{Command{
         }
         if (!save_model->empty() && case_file->empty()) {
           throw InputError("rockdem compare: --save-model goes with --case (with --model the record is already a file)");
+        }
+        if (*overwrite && plot->empty()) throw InputError("rockdem compare: --overwrite goes with --plot DIR");
+        // --plot DIR is a folder many comparisons may share (one figure per model, as scripts/demo
+        // uses it), so it is not emptied; but a file of an earlier comparison is never replaced
+        // unless the user says so, and that is known before the element test runs.
+        if (!plot->empty()) {
+          const std::string stem = fs::path(case_file->empty() ? *model : *case_file).stem().string();
+          std::vector<fs::path> mine = {fs::path(*plot) / (stem + ".png")};
+          if (!case_file->empty() && save_model->empty()) mine.push_back(fs::path(*plot) / (stem + ".csv"));
+          std::error_code ec;
+          if (fs::exists(*plot, ec) && !fs::is_directory(*plot, ec))
+            throw InputError("--plot " + *plot + ": exists and is not a folder");
+          for (const fs::path& f : mine)
+            if (!*overwrite && fs::exists(f, ec))
+              throw InputError("--plot " + *plot + ": '" + f.filename().string() + "' exists (an earlier comparison's); "
+                               "add --overwrite to replace it, or give another folder");
         }
         const auto t0 = std::chrono::steady_clock::now();
         const MeasurementFile d = read_measurement_csv(*data);

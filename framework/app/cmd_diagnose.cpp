@@ -1,5 +1,5 @@
-// `rockdem diagnose --data FILE.csv --law LAW [--json OUT.json] [--report DIR] [--effects a,b]
-// [--case CASE.toml] [--fix p=v] [--set p=v] [--threads N]`: calibrates the base law, says where
+// `rockdem diagnose --data FILE.csv --law LAW [--json OUT.json] [--report DIR [--overwrite]]
+// [--effects a,b] [--case CASE.toml] [--fix p=v] [--set p=v] [--threads N]`: calibrates the base law, says where
 // it fails, which covariates the residual follows, which catalogue effect helps most (BIC) and
 // climbs the ladder of effects (framework/analysis/diagnosis.hpp). --report writes the aligned
 // records and the figures through scripts/plot_diagnosis.py, run by Debian's /usr/bin/python3
@@ -12,10 +12,12 @@
 
 #include "framework/analysis/diagnosis.hpp"
 #include "framework/app/calibration_inputs.hpp"
+#include "framework/app/cli_contract.hpp"
 #include "framework/app/command.hpp"
 #include "framework/app/result_files.hpp"
 #include "framework/app/plot_scripts.hpp"
 #include "framework/core/error.hpp"
+#include "framework/io/output_folder.hpp"
 #include "framework/plugin_api/joint_law.hpp"
 
 namespace rockdem {
@@ -40,7 +42,9 @@ const CommandRegistrar reg{Command{
       sub.add_option("--fix", in->fix, "fix a base-law parameter: p=VALUE with its unit")->take_all();
       sub.add_option("--set", in->set, "set a parameter that is not fitted, e.g. dilation=reversible")->take_all();
       sub.add_option("--json", *json, "write the diagnosis as JSON");
-      sub.add_option("--report", *report, "write figures and the aligned records into this folder");
+      sub.add_option("--report", *report, "write figures and the aligned records into this folder (new or empty)");
+      auto overwrite = std::make_shared<bool>(false);
+      sub.add_flag("--overwrite", *overwrite, "empty the --report folder first (only one an earlier diagnose wrote)");
       sub.add_option("--threads", opt->threads, "threads (effects fitted in parallel)")->check(CLI::Range(1, 64))->capture_default_str();
       sub.add_flag("--fit-unjudged", opt->fit_unjudged,
                    "fit also the effects this record cannot reveal (reported, kept out of the ladder)");
@@ -49,6 +53,18 @@ const CommandRegistrar reg{Command{
         if (data->empty()) throw InputError("rockdem diagnose: --data MEASURED.csv is required");
         if (in->law.empty()) {
           throw InputError("rockdem diagnose: --law LAW is required; valid laws: " + JointLawRegistry::instance().names_joined());
+        }
+        if (*overwrite && report->empty()) throw InputError("rockdem diagnose: --overwrite goes with --report DIR");
+        // The report folder is the diagnosis's own, as a run's --out is: checked before the fit
+        // (which may take minutes), never mixed with an earlier report's figures, and marked with a
+        // manifest saying which command made it.
+        Manifest manifest;
+        if (!report->empty()) {
+          prepare_output_folder(*report, *overwrite ? FolderUse::overwrite : FolderUse::fresh, "--report");
+          manifest.command_line = command_line();
+          manifest.case_file = in->case_file;
+          manifest.started_utc = utc_now();
+          write_manifest(*report, manifest);
         }
         DiagnosisOptions o = *opt;
         const MeasurementFile d = read_measurement_csv(*data);
@@ -88,6 +104,10 @@ const CommandRegistrar reg{Command{
             throw std::runtime_error("--report: " + script + " failed (Debian's /usr/bin/python3 with python3-matplotlib; "
                                      "ROCKDEM_PLOT_DIAGNOSIS names another copy)");
           }
+          manifest.ended_utc = utc_now();
+          manifest.status = "finished";
+          manifest.exit_code = 0;
+          write_manifest(*report, manifest);
           if (!*quiet) std::printf("report: %s\n", report->c_str());
         }
         if (!*quiet && !json->empty()) std::printf("json: %s\n", json->c_str());

@@ -65,6 +65,30 @@ for k in '"base_law"' '"baseline"' '"segments"' '"covariates"' '"ranking"' '"lad
   grep -q "$k" "$tmp/diag.json" || { echo "FAIL diag_forward_only: no $k in the JSON"; fail=1; }
 done
 
+# --report DIR is the diagnosis's own folder, as a run's --out: written with a manifest; refused
+# when not empty (before the fit runs), emptied by --overwrite only when an earlier report made it.
+if /usr/bin/python3 -c "import matplotlib" 2>/dev/null; then
+  expect diag_report 0 diagnose --data "$tmp/forward.csv" --law mohr_coulomb --report "$tmp/rep" --quiet --
+  for f in manifest.json diagnosis.json aligned.csv ladder_overlay.png; do
+    [ -s "$tmp/rep/$f" ] || { echo "FAIL diag_report: no $f in the report folder"; fail=1; }
+  done
+  grep -q '"status": "finished"' "$tmp/rep/manifest.json" || { echo "FAIL diag_report: manifest not finished"; fail=1; }
+  expect diag_report_again 2 diagnose --data "$tmp/forward.csv" --law mohr_coulomb --report "$tmp/rep" -- \
+    "--report $tmp/rep: the folder is not empty" "--overwrite"
+  touch "$tmp/rep/stale_from_earlier.png"
+  expect diag_report_overwrite 0 diagnose --data "$tmp/forward.csv" --law mohr_coulomb --report "$tmp/rep" --overwrite --quiet --
+  [ -e "$tmp/rep/stale_from_earlier.png" ] && { echo "FAIL diag_report_overwrite: a stale file survived"; fail=1; }
+  [ -s "$tmp/rep/ladder_overlay.png" ] || { echo "FAIL diag_report_overwrite: no figures"; fail=1; }
+else
+  echo "skip diag_report: /usr/bin/python3 has no matplotlib"
+fi
+mkdir -p "$tmp/mine" && echo "my notes" >"$tmp/mine/notes.txt"
+expect diag_report_foreign 2 diagnose --data "$tmp/forward.csv" --law mohr_coulomb --report "$tmp/mine" --overwrite -- \
+  "--overwrite empties only a folder rockdem wrote" "notes.txt"
+grep -q "my notes" "$tmp/mine/notes.txt" || { echo "FAIL diag_report_foreign: the user's file was touched"; fail=1; }
+expect diag_overwrite_alone 2 diagnose --data "$tmp/forward.csv" --law mohr_coulomb --overwrite -- \
+  "--overwrite goes with --report DIR"
+
 # A joint that would lift off within one fitting step (Continuously-Yielding on the first 1,200
 # rows of test 14's twin: at 0.05 mm with the stiff default kn it fell to 0 MPa, the baseline
 # "failed at the fitting step" and the effect's fit from the baseline's values could not be run)

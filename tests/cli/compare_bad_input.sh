@@ -89,9 +89,18 @@ expect_compare identical 0 --data "$tmp/data.csv" --model "$tmp/data.csv" -- "co
 if /usr/bin/python3 -c "import matplotlib" 2>/dev/null; then
   expect_compare plot 0 --data "$tmp/data.csv" --model "$tmp/offset.csv" --plot "$tmp/fig" --quiet --
   [ -s "$tmp/fig/offset.png" ] || { echo "FAIL plot: no $tmp/fig/offset.png"; fail=1; }
+  # The folder may hold other comparisons' figures; an earlier figure of this one is replaced only
+  # with --overwrite, and that is refused before anything runs.
+  expect_compare plot_again 2 --data "$tmp/data.csv" --model "$tmp/offset.csv" --plot "$tmp/fig" -- \
+    "--plot $tmp/fig: 'offset.png' exists" "--overwrite"
+  expect_compare plot_other_model 0 --data "$tmp/data.csv" --model "$tmp/data.csv" --plot "$tmp/fig" --quiet --
+  expect_compare plot_overwrite 0 --data "$tmp/data.csv" --model "$tmp/offset.csv" --plot "$tmp/fig" --overwrite --quiet --
+  [ -s "$tmp/fig/offset.png" ] && [ -s "$tmp/fig/data.png" ] || { echo "FAIL plot_overwrite: a figure is missing"; fail=1; }
 else
   echo "skip plot: /usr/bin/python3 has no matplotlib"
 fi
+
+expect_compare overwrite_alone 2 --data "$tmp/data.csv" --model "$tmp/offset.csv" --overwrite -- "--overwrite goes with --plot DIR"
 
 # The case-level form runs the element test first; compared with that test's own record: zero.
 case_file="$src/cases/direct_shear/test09_mohr_coulomb.toml"
