@@ -251,11 +251,24 @@ const CommandRegistrar reg{Command{
         if (file->empty() && !*use_default) throw InputError("rockdem run: give a case file, or --default for the built-in case");
         const bool lab = !*use_default && fs::exists(*file) && is_lab_test_file(*file);
         const bool lab_options = !velocity->empty() || !mass_dt->empty() || *nstages > 0 || !write_case->empty();
-        // A syntax error is the message to give, not "these options apply to laboratory-test cases".
-        if (!lab && lab_options && !*use_default) parse_toml_file(*file, "case file");
-        if (!lab && lab_options)
-          throw InputError("rockdem run: --shear-velocity, --mass-scaling-dt, --stages and --write-case apply to laboratory-test "
+        if (!lab && lab_options) {
+          // A syntax error is the message to give, not "these options apply to laboratory-test
+          // cases"; else the file and what makes it no laboratory-test case.
+          std::string which = "--default is the built-in DEM case";
+          if (!*use_default) {
+            if (!fs::exists(*file)) throw InputError(*file + ": no such case file");
+            const toml::table root = parse_toml_file(*file, "case file");
+            std::vector<std::string> why;
+            if (!root.contains("joint")) why.push_back("no [joint] table");
+            if (!root.contains("stage")) why.push_back("no [[stage]] table");
+            if (root.contains("blocks")) why.push_back("[[blocks]], as a DEM case has");
+            std::string list;
+            for (const auto& w : why) list += (list.empty() ? "" : ", ") + w;
+            which = *file + " is no laboratory-test case file: it has " + list;
+          }
+          throw InputError(which + "; --shear-velocity, --mass-scaling-dt, --stages and --write-case apply to laboratory-test "
                            "case files ([joint] and [[stage]] tables, e.g. cases/direct_shear/test09_mohr_coulomb.toml)");
+        }
         std::map<std::string, std::string> joint_files;
         for (const auto& a : *joints) {
           const auto eq = a.find('=');

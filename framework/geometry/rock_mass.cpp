@@ -9,6 +9,8 @@
 #include <CGAL/Polygon_2_algorithms.h>
 
 #include <algorithm>
+#include <iomanip>
+#include <sstream>
 #include <cmath>
 #include <map>
 #include <numbers>
@@ -225,6 +227,13 @@ void Cutter::add_joint_line(const JointSetInput& s, int set, Vec2 p, Vec2 d, std
   }
 }
 
+namespace {
+// Bounds that keep a joint set finite in time and memory (a model with more traces than this in
+// one set is far beyond what the arrangement and the engine handle anyway).
+constexpr double kMaxSpacingSteps = 1e6;
+constexpr double kMaxTraces = 1e5;
+}  // namespace
+
 void Cutter::add_joint_sets() {
   std::mt19937_64 rng(in_.seed);
   for (std::size_t i = 0; i < in_.joint_sets.size(); ++i) {
@@ -251,6 +260,31 @@ void Cutter::add_joint_sets() {
       smin = std::min(smin, (v - s.origin).dot(n));
       smax = std::max(smax, (v - s.origin).dot(n));
     }
+    // The walk below steps from the origin, one spacing at a time, so an origin far outside the
+    // extent or a spacing tiny against it would run for ever (an origin 9e18 m away was found by
+    // the parser replay, tests/fuzz/); such sets are refused with the numbers.
+    const double walk = std::max({smax, -smin, 0.0}) / s.spacing, traces = (smax - smin) / s.spacing;
+    Vec2 lo = (*extent)[0], hi = (*extent)[0];
+    for (const Vec2& v : *extent) {
+      lo = lo.cwiseMin(v);
+      hi = hi.cwiseMax(v);
+    }
+    const double along = (hi - lo).norm() / (s.trace + s.gap);  // trace-gap pieces on the longest line
+    const auto g = [](double x) {
+      std::ostringstream os;
+      os << std::setprecision(3) << x;
+      return os.str();
+    };
+    const std::string within = s.region ? "its region" : "the domain";
+    if (!(traces <= kMaxTraces))
+      throw InputError(s.where + ": a spacing of " + g(s.spacing) + " m makes " + g(traces) + " parallel traces across " +
+                       within + "; valid: at most " + g(kMaxTraces));
+    if (!(walk <= kMaxSpacingSteps))
+      throw InputError(s.where + ": the origin lies " + g(walk) + " spacings from the farthest point of " + within +
+                       "; valid: within " + g(kMaxSpacingSteps) + " spacings (put the origin near the model)");
+    if (!(along <= kMaxTraces))
+      throw InputError(s.where + ": trace plus gap of " + g(s.trace + s.gap) + " m cuts each line across " + within +
+                       " into about " + g(along) + " pieces; valid: at most " + g(kMaxTraces));
     const auto joint = [&](double at) {
       const double dip = s.dip_sd > 0.0 ? std::normal_distribution<double>(s.dip, s.dip_sd)(rng) : s.dip;
       add_joint_line(s, static_cast<int>(i), s.origin + at * n, Vec2(std::cos(dip), -std::sin(dip)), rng);

@@ -20,7 +20,12 @@ Polygon block_shape(const BlockSpec& s) {
   if (s.rectangle) {
     const auto& r = *s.rectangle;
     if (!(r.width > 0 && r.height > 0)) throw InputError(s.shape_where + ": width and height must be positive");
-    return {{r.x0, r.y0}, {r.x0 + r.width, r.y0}, {r.x0 + r.width, r.y0 + r.height}, {r.x0, r.y0 + r.height}};
+    Polygon p = {{r.x0, r.y0}, {r.x0 + r.width, r.y0}, {r.x0 + r.width, r.y0 + r.height}, {r.x0, r.y0 + r.height}};
+    // A width or height far below the corner's coordinates vanishes when added to them.
+    if (!is_simple(p))
+      throw InputError(s.shape_where + ": the rectangle's corners coincide in double precision (a width or height " +
+                       "too small against its corner's coordinates); valid: a side at least about 1e-15 of the coordinates");
+    return p;
   }
   if (!is_simple(s.polygon)) throw InputError(s.shape_where + ": the polygon intersects itself");
   return s.polygon;
@@ -99,14 +104,21 @@ void CaseBuilder::add_block(const BlockSpec& s) {
   const int group = group_index(s.group.empty() ? s.name : s.group);
   const Polygon shape = block_shape(s);
   std::vector<int> corners;
-  if (s.rigid) {
-    add_rigid_block(m, shape, s.density, s.name, group);
-    for (std::size_t i = 0; i < shape.size(); ++i) corners.push_back(static_cast<int>(i));
-  } else {
-    const int material = material_index(s);  // named before the mesh is made, as mistakes go
-    const TriMesh mesh = block_mesh(s, shape);
-    add_deformable_block(m, mesh, material, s.name, group);
-    corners = mesh.corners;
+  const int material = s.rigid ? -1 : material_index(s);  // named before the mesh is made, as mistakes go
+  try {
+    if (s.rigid) {
+      add_rigid_block(m, shape, s.density, s.name, group);
+      for (std::size_t i = 0; i < shape.size(); ++i) corners.push_back(static_cast<int>(i));
+    } else {
+      const TriMesh mesh = block_mesh(s, shape);
+      add_deformable_block(m, mesh, material, s.name, group);
+      corners = mesh.corners;
+    }
+  } catch (const InputError& e) {
+    // The mesher and the model's checks know the block, not the file: say where it is written.
+    const std::string what = e.what();
+    if (what.rfind(s.where, 0) == 0) throw;
+    throw InputError(s.where + ": " + what);
   }
   if (!s.edge_labels.empty()) label_edges(s, shape, corners);
   c_.block_names.push_back(s.name);

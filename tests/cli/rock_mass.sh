@@ -62,6 +62,15 @@ bad region_outside "region_outside.toml:" "[rock_mass.regions] 'far_field'" "lie
 variant set_cuts_nothing 's/^origin = \["0.3 m", "0 m"\]/origin = ["0.3 m", "0 m"]\nregion = { rectangle = ["30 m", "30 m", "1 m", "1 m"] }/'
 bad set_cuts_nothing "[rock_mass.joint_sets] 'steep'" "cuts no block" "origin, spacing and region"
 
+# Sets that would never finish cutting (the parser replay, tests/fuzz/, found an origin 9e18 m away
+# running for ever): refused with the numbers.
+variant origin_far 's/^origin = \["0.3 m", "0 m"\]/origin = ["0.3 m", "9223372036854775808 m"]/'
+bad origin_far "origin_far.toml:" "[rock_mass.joint_sets] 'steep'" "the origin lies 2.1e+18 spacings" "valid: within 1e+06"
+variant spacing_tiny 's/^spacing = "1.5 m"/spacing = "1e-6 m"/'
+bad spacing_tiny "[rock_mass.joint_sets] 'steep'" "parallel traces" "valid: at most 1e+05"
+variant trace_tiny 's/^trace = .*/trace = "1e-7 m"/'
+bad trace_tiny "[rock_mass.joint_sets]" "trace plus gap of" "pieces; valid: at most 1e+05"
+
 variant gap_and_persistence 's/^persistence = 0.75/persistence = 0.75\ngap = "1 m"/'
 bad gap_and_persistence "[rock_mass.joint_sets] 'flat'" "either gap or persistence"
 
