@@ -66,7 +66,10 @@ def read_pvd(path):
     for ds in root.iter("DataSet"):
         if ds.get("timestep") is None or ds.get("file") is None:
             continue
-        out.append((float(ds.get("timestep")), ds.get("file")))
+        try:
+            out.append((float(ds.get("timestep")), ds.get("file")))
+        except ValueError:
+            raise BadInput(f"'{path}': timestep '{ds.get('timestep')}' is not a number")
     if not out:
         raise BadInput(f"'{path}' lists no output steps")
     return out
@@ -178,6 +181,13 @@ def colour_range(values):
     return lo, hi, extend[(clip_lo, clip_hi)]
 
 
+def span(values, unit):
+    """'lo .. hi unit' of the finite values shown, or a word when there are none."""
+    if values.size == 0:
+        return "no values"
+    return f"{values.min() + 0.0:.4g} .. {values.max() + 0.0:.4g} {unit}"
+
+
 def save(fig, path):
     try:
         tmp = path + ".tmp.png"
@@ -256,8 +266,8 @@ def main(argv):
     dmag = np.linalg.norm(disp[:, :2], axis=1) * 1e3
     cell_disp = np.array([dmag[c].mean() for c in cells])
     shown = blocks_view(cell_disp, "displacement since the start [mm]", "blocks_displacement.png", "viridis")
-    print(f"blocks_displacement.png: {len(set(block.tolist()))} blocks, {len(cells)} cells, "
-          f"displacement {shown.min() + 0.0:.4g} .. {shown.max() + 0.0:.4g} mm (the whole model's motion included)")
+    print(f"blocks_displacement.png: {len(set(block.tolist()))} blocks, {len(cells)} cells, displacement "
+          f"{span(shown, 'mm')} (the whole model's motion included)")
 
     comp = a.stress_component
     if comp == "major":
@@ -268,7 +278,7 @@ def main(argv):
         sv, slabel = -stress[:, k], f"stress {comp.upper()}, compression positive [MPa]"
     shown = blocks_view(sv / 1e6, slabel, "blocks_stress.png", "plasma")
     held = int(np.count_nonzero(~np.isfinite(sv)))
-    print(f"blocks_stress.png: {slabel}: {shown.min() + 0.0:.4g} .. {shown.max() + 0.0:.4g} MPa"
+    print(f"blocks_stress.png: {slabel}: {span(shown, 'MPa')}"
           + (f"; {held} cells of held rigid blocks without a known stress (grey)" if held else ""))
 
     contacts_pvd = os.path.join(vdir, "contacts.pvd")
@@ -312,8 +322,7 @@ def main(argv):
     fig.colorbar(sc, ax=ax, label="joint normal stress, compression positive [MPa]", shrink=0.85, extend=extend)
     frame(ax, xy, f"joint normal stress at the contact points\n{when}")
     save(fig, os.path.join(out, "contacts_normal_stress.png"))
-    if n:
-        print(f"contacts_normal_stress.png: {sn.min() / 1e6:.4g} .. {sn.max() / 1e6:.4g} MPa")
+    print(f"contacts_normal_stress.png: {span(sn[np.isfinite(sn)] / 1e6, 'MPa')}")
     print(f"views in {out}")
     return 0
 

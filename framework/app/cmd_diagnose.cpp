@@ -5,10 +5,12 @@
 // records and the figures through scripts/plot_diagnosis.py, run by Debian's /usr/bin/python3
 // (which has matplotlib; the first python3 on PATH may be a virtual environment without it).
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <utility>
 
 #include "framework/analysis/diagnosis.hpp"
 #include "framework/app/calibration_inputs.hpp"
@@ -57,61 +59,89 @@ const CommandRegistrar reg{Command{
         if (*overwrite && report->empty()) throw InputError("rockdem diagnose: --overwrite goes with --report DIR");
         // The report folder is the diagnosis's own, as a run's --out is: checked before the fit
         // (which may take minutes), never mixed with an earlier report's figures, and marked with a
-        // manifest saying which command made it.
+        // manifest saying which command made it (kind "diagnose report": --overwrite never
+        // empties a run's folder, nor a folder that holds this command's own inputs).
         Manifest manifest;
+        manifest.kind = "diagnose report";
         if (!report->empty()) {
-          prepare_output_folder(*report, *overwrite ? FolderUse::overwrite : FolderUse::fresh, "--report");
+          if (*overwrite) {
+            for (const auto& [option, file] : {std::pair<std::string, std::string>{"--data", *data}, {"--case", in->case_file}}) {
+              if (file.empty() || !fs::exists(*report)) continue;
+              const fs::path f = fs::weakly_canonical(file), dir = fs::weakly_canonical(*report);
+              if (std::mismatch(dir.begin(), dir.end(), f.begin(), f.end()).first == dir.end())
+                throw InputError("--report " + *report + " --overwrite would empty the folder that holds " + option + " " +
+                                 file + "; give the report another folder");
+            }
+          }
+          prepare_output_folder(*report, *overwrite ? FolderUse::overwrite : FolderUse::fresh, "--report", manifest.kind);
           manifest.command_line = command_line();
           manifest.case_file = in->case_file;
           manifest.started_utc = utc_now();
           write_manifest(*report, manifest);
         }
-        DiagnosisOptions o = *opt;
-        const MeasurementFile d = read_measurement_csv(*data);
-        std::vector<std::string> notes;
-        apply_inputs(*data, d, *in, o.base, notes);
-        CalibrationInputs list;
-        list.law = in->law;
-        list.effects = *try_effects;
-        CalibrationOptions tried;
-        apply_inputs(*data, d, list, tried, notes);
-        o.effects = tried.effects;
-        const Segmentation seg = segment(d, o.base.compare.segmentation);
-        Diagnosis dg;
-        try {
-          dg = diagnose(d, seg, o);
-        } catch (const InputError& e) {
-          throw InputError(*data + ": " + e.what());
-        }
-        nlohmann::json j = to_json(dg, *data);
-        j["notes"] = notes;
-        auto write_json = [&](const std::string& path) {
-          write_json_result(path, j);
-        };
-        if (!json->empty()) write_json(*json);
-        if (!*quiet) {
-          std::printf("diagnose: %s (%zu rows, %zu stage(s)), base law %s, %.1f s\n", data->c_str(), d.rows.size(),
-                      seg.stages.size(), in->law.c_str(), dg.wall_ms / 1e3);
-          for (const auto& n : notes) std::printf("note: %s\n", n.c_str());
-          std::printf("%s", format_report(dg).c_str());
-        }
-        if (!report->empty()) {
-          write_report_data(dg, d, *report);
-          const std::string jpath = (fs::path(*report) / "diagnosis.json").string();
-          write_json(jpath);
-          const std::string script = find_plot_script("plot_diagnosis.py", "ROCKDEM_PLOT_DIAGNOSIS", "--report").string();
-          if (run_debian_python({script, jpath, "--out", *report}, "--report") != 0) {
-            throw std::runtime_error("--report: " + script + " failed (Debian's /usr/bin/python3 with python3-matplotlib; "
-                                     "ROCKDEM_PLOT_DIAGNOSIS names another copy)");
-          }
+        // A diagnosis that stops (bad data, a failed fit or plot) says so in its report's manifest.
+        const auto close_report = [&](const std::string& status, int code) {
+          if (report->empty()) return;
           manifest.ended_utc = utc_now();
-          manifest.status = "finished";
-          manifest.exit_code = 0;
+          manifest.status = status;
+          manifest.exit_code = code;
           write_manifest(*report, manifest);
-          if (!*quiet) std::printf("report: %s\n", report->c_str());
+        };
+        const auto work = [&]() -> int {
+          DiagnosisOptions o = *opt;
+          const MeasurementFile d = read_measurement_csv(*data);
+          std::vector<std::string> notes;
+          apply_inputs(*data, d, *in, o.base, notes);
+          CalibrationInputs list;
+          list.law = in->law;
+          list.effects = *try_effects;
+          CalibrationOptions tried;
+          apply_inputs(*data, d, list, tried, notes);
+          o.effects = tried.effects;
+          const Segmentation seg = segment(d, o.base.compare.segmentation);
+          Diagnosis dg;
+          try {
+            dg = diagnose(d, seg, o);
+          } catch (const InputError& e) {
+            throw InputError(*data + ": " + e.what());
+          }
+          nlohmann::json j = to_json(dg, *data);
+          j["notes"] = notes;
+          auto write_json = [&](const std::string& path) {
+            write_json_result(path, j);
+          };
+          if (!json->empty()) write_json(*json);
+          if (!*quiet) {
+            std::printf("diagnose: %s (%zu rows, %zu stage(s)), base law %s, %.1f s\n", data->c_str(), d.rows.size(),
+                        seg.stages.size(), in->law.c_str(), dg.wall_ms / 1e3);
+            for (const auto& n : notes) std::printf("note: %s\n", n.c_str());
+            std::printf("%s", format_report(dg).c_str());
+          }
+          if (!report->empty()) {
+            write_report_data(dg, d, *report);
+            const std::string jpath = (fs::path(*report) / "diagnosis.json").string();
+            write_json(jpath);
+            const std::string script = find_plot_script("plot_diagnosis.py", "ROCKDEM_PLOT_DIAGNOSIS", "--report").string();
+            if (run_debian_python({script, jpath, "--out", *report}, "--report") != 0) {
+              throw std::runtime_error("--report: " + script + " failed (Debian's /usr/bin/python3 with python3-matplotlib; "
+                                       "ROCKDEM_PLOT_DIAGNOSIS names another copy)");
+            }
+            close_report("finished", 0);
+            if (!*quiet) std::printf("report: %s\n", report->c_str());
+          }
+          if (!*quiet && !json->empty()) std::printf("json: %s\n", json->c_str());
+          return 0;
+        };
+        if (report->empty()) return work();
+        try {
+          return work();
+        } catch (const InputError&) {
+          try { close_report("failed", 2); } catch (const std::exception&) {}  // the first error is the one to report
+          throw;
+        } catch (const std::exception&) {
+          try { close_report("failed", 1); } catch (const std::exception&) {}
+          throw;
         }
-        if (!*quiet && !json->empty()) std::printf("json: %s\n", json->c_str());
-        return 0;
       };
     }}};
 

@@ -282,7 +282,8 @@ void Cutter::add_joint_sets() {
     if (!(walk <= kMaxSpacingSteps))
       throw InputError(s.where + ": the origin lies " + g(walk) + " spacings from the farthest point of " + within +
                        "; valid: within " + g(kMaxSpacingSteps) + " spacings (put the origin near the model)");
-    if (!(along <= kMaxTraces))
+    const bool persistent = !std::isfinite(s.trace) || !(s.gap > 0.0);  // as add_joint_line: not cut
+    if (!persistent && !(along <= kMaxTraces))
       throw InputError(s.where + ": trace plus gap of " + g(s.trace + s.gap) + " m cuts each line across " + within +
                        " into about " + g(along) + " pieces; valid: at most " + g(kMaxTraces));
     const auto joint = [&](double at) {

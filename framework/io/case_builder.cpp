@@ -117,7 +117,7 @@ void CaseBuilder::add_block(const BlockSpec& s) {
   } catch (const InputError& e) {
     // The mesher and the model's checks know the block, not the file: say where it is written.
     const std::string what = e.what();
-    if (what.rfind(s.where, 0) == 0) throw;
+    if (!c_.file.empty() && what.rfind(c_.file, 0) == 0) throw;  // already says where (e.g. the shape's key)
     throw InputError(s.where + ": " + what);
   }
   if (!s.edge_labels.empty()) label_edges(s, shape, corners);

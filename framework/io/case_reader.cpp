@@ -566,7 +566,7 @@ void apply_calibration(const std::string& file, const std::string& where, JointS
   merge_calibration(c, s.law, s.law_where, s.params, s.effects);
   s.calibration = c.file;
   // The law's parameters now come from the file: a missing or bad one is looked for there.
-  s.law_where += " (the joint of calibration file '" + c.file + "')";
+  s.law_where += " (the joint of calibration file '" + c.file + "', with this entry's keys over it)";
 }
 
 // What a joint is (law, calibration, effects, parameters) from table `t`, read with `r` (the

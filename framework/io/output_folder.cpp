@@ -1,10 +1,12 @@
 #include "framework/io/output_folder.hpp"
 
 #include <hdf5.h>
+#include <nlohmann/json.hpp>
 
 #include <chrono>
 #include <cstdio>
 #include <ctime>
+#include <fstream>
 #include <stdexcept>
 
 #include "framework/core/error.hpp"
@@ -45,7 +47,22 @@ std::string joined_stages(const Manifest& m) {
 
 }  // namespace
 
-void prepare_output_folder(const fs::path& dir, FolderUse use, const std::string& option) {
+namespace {
+// The kind of the folder's manifest.json ("run" for manifests written before kinds were recorded;
+// "" when it cannot be read as a manifest).
+std::string manifest_kind(const fs::path& file) {
+  std::ifstream in(file);
+  try {
+    const nlohmann::json j = nlohmann::json::parse(in);
+    if (!j.is_object() || j.value("format", "") != "rockdem-manifest") return "";
+    return j.value("kind", "run");
+  } catch (const nlohmann::json::exception&) {
+    return "";
+  }
+}
+}  // namespace
+
+void prepare_output_folder(const fs::path& dir, FolderUse use, const std::string& option, const std::string& kind) {
   std::error_code ec;
   if (!fs::exists(dir, ec)) {
     fs::create_directories(dir, ec);
@@ -58,6 +75,16 @@ void prepare_output_folder(const fs::path& dir, FolderUse use, const std::string
   if (it == fs::directory_iterator()) return;  // empty
   const bool ours = fs::exists(dir / "manifest.json");
   const std::string example = it->path().filename().string();
+  if (ours && use != FolderUse::fresh) {
+    const std::string found = manifest_kind(dir / "manifest.json");
+    if (found != kind)
+      throw InputError(option + " " + dir.string() + ": this folder holds " +
+                       (found.empty() ? std::string("a manifest.json rockdem cannot read") : "a rockdem " + found) +
+                       ", not a " + kind + " (its manifest.json says so); " +
+                       (use == FolderUse::resume ? "a restart continues only its own run's folder"
+                                                 : "--overwrite empties only a folder an earlier " + kind + " wrote") +
+                       ": give another folder");
+  }
   if (use == FolderUse::resume) {
     if (!ours)
       throw InputError(option + " " + dir.string() + ": a restart writes into the folder of the run it continues (one with a "
@@ -65,7 +92,7 @@ void prepare_output_folder(const fs::path& dir, FolderUse use, const std::string
     return;
   }
   if (use == FolderUse::fresh) {
-    throw InputError(option + " " + dir.string() + ": the folder is not empty (e.g. '" + example + "'); a run never mixes "
+    throw InputError(option + " " + dir.string() + ": the folder is not empty (e.g. '" + example + "'); a " + kind + " never mixes "
                      "its files with another's: give a new or empty folder, or add --overwrite to empty this one first" +
                      (ours ? std::string() : " (only a folder rockdem wrote, with a manifest.json, is emptied)"));
   }
@@ -107,6 +134,7 @@ void write_manifest(const fs::path& dir, const Manifest& m) {
   if (!m.case_text.empty()) write_file_atomically(dir / "case.toml", m.case_text);
   std::string s = "{\n";
   s += "  \"format\": \"rockdem-manifest\",\n";
+  s += "  \"kind\": " + json_string(m.kind) + ",\n";
   s += "  \"rockdem_version\": " + json_string(ROCKDEM_VERSION) + ",\n";
   s += "  \"rockdem_commit\": " + json_string(ROCKDEM_GIT_COMMIT) + ",\n";
   s += "  \"command_line\": " + json_string(m.command_line) + ",\n";

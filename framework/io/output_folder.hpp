@@ -19,10 +19,14 @@ namespace rockdem {
 enum class FolderUse { fresh, overwrite, resume };
 
 // Makes `dir` ready for a run (creates it when missing) or throws an InputError naming `option`,
-// the folder and what to do instead.
-void prepare_output_folder(const std::filesystem::path& dir, FolderUse use, const std::string& option);
+// the folder and what to do instead. `kind` is what is about to write the folder (Manifest::kind):
+// --overwrite and --resume accept only a folder whose manifest says the same kind, so that a
+// diagnosis report never empties a run's folder or the other way round.
+void prepare_output_folder(const std::filesystem::path& dir, FolderUse use, const std::string& option,
+                           const std::string& kind = "run");
 
 struct Manifest {
+  std::string kind = "run";  // what wrote the folder: "run" (rockdem run) or "diagnose report"
   std::string command_line;
   std::string case_file;  // as given ("" for a built-in case)
   std::string case_text;  // copied into the folder as case.toml ("" when unknown)

@@ -204,7 +204,8 @@ void write_blocks_vtu(const Model& m, const std::string& path) {
     if (b.rigid) {
       ids.assign(b.boundary.begin(), b.boundary.end());
       grid->InsertNextCell(VTK_POLYGON, static_cast<vtkIdType>(ids.size()), ids.data());
-      const bool known = block_stress_known(b);
+      // Before the first step no force has been computed: not known yet either.
+      const bool known = block_stress_known(b) && m.step > 0;
       const double s[6] = {mean[bi][0], mean[bi][1], known ? 0.0 : std::numeric_limits<double>::quiet_NaN(), mean[bi][2], 0.0, 0.0};
       stress->SetTuple(cell, s);
       from->SetValue(cell, known ? 2 : 0);

@@ -4,18 +4,24 @@
 // collections listing every step with its time. The .pvd files are rewritten after each step so
 // that an interrupted run still opens in ParaView.
 //
+// Array names carry their unit (SI); integer categories have their names in field-data string
+// arrays. docs/user-guide-output.md lists them for users.
 // blocks_<step>.vtu: points are all gridpoints (z = 0); deformable blocks contribute their zones as
 //   VTK_TRIANGLE cells, rigid blocks one VTK_POLYGON cell over their boundary loop.
-//   point data: displacement (x - x0), velocity (3 components, z = 0, ready for Warp By Vector)
-//   cell data:  stress (6-component symmetric tensor XX YY ZZ XY YZ XZ [Pa], tension positive;
-//               NaN in rigid blocks, which carry no stress), block_id, rigid (0/1), group
+//   point data: displacement_m (x - x0), velocity_m_per_s (3 components, z = 0, ready for Warp By
+//               Vector)
+//   cell data:  stress_Pa (6-component symmetric tensor XX YY ZZ XY YZ XZ, tension positive: a
+//               zone's own; a rigid block's mean stress from its boundary forces with ZZ = 0,
+//               NaN for a held one or before the first step), stress_from (1 zone, 2 rigid block's
+//               forces, 0 none), block_id, block_name, rigid (0/1), group, process
+//   field data: group_names, stress_from_names
 // contacts_<step>.vtu: one VTK_VERTEX per contact point at the contact gridpoint's position.
-//   point data: normal_stress, shear_stress (compression positive, [Pa]), shear_displacement,
-//               normal_displacement (opening positive, [m]), state (0 elastic, 1 slipping, 2 open),
-//               length [m], normal (3 components), point_block, other_block, joint,
-//               edge_label (the rock-mass label of the other block's edge, -1 none; the names in
-//               the field data array edge_label_names), bridge (1 rock bridge or glued cut, 0
-//               joint trace, -1 no label)
+//   point data: normal_stress_Pa, shear_stress_Pa (compression positive), shear_displacement_m,
+//               normal_displacement_m (opening positive), state (0 elastic, 1 slipping, 2 open),
+//               length_m, normal (3 components), point_block, other_block, joint,
+//               edge_label (the rock-mass label of the other block's edge, -1 none), bridge (1 rock
+//               bridge or glued cut, 0 joint trace, -1 no label), process
+//   field data: state_names, joint_names, edge_label_names
 #include <filesystem>
 #include <string>
 #include <utility>

@@ -82,6 +82,22 @@ if /usr/bin/python3 -c "import matplotlib" 2>/dev/null; then
 else
   echo "skip diag_report: /usr/bin/python3 has no matplotlib"
 fi
+# --overwrite empties only a diagnose report: not a run's folder, not the folder of its own --data.
+"$bin" run "$src/tests/cli/render_views/stack.toml" --out "$tmp/a_run" --quiet --no-plots >/dev/null 2>&1
+expect diag_report_over_run 2 diagnose --data "$tmp/forward.csv" --law mohr_coulomb --report "$tmp/a_run" --overwrite -- \
+  "this folder holds a rockdem run, not a diagnose report" "give another folder"
+[ -s "$tmp/a_run/final_state.h5" ] || { echo "FAIL diag_report_over_run: the run's folder was touched"; fail=1; }
+if [ -d "$tmp/rep" ]; then
+  cp "$tmp/forward.csv" "$tmp/rep/forward_copy.csv"
+  expect diag_report_holds_data 2 diagnose --data "$tmp/rep/forward_copy.csv" --law mohr_coulomb --report "$tmp/rep" --overwrite -- \
+    "would empty the folder that holds --data"
+  [ -s "$tmp/rep/forward_copy.csv" ] || { echo "FAIL diag_report_holds_data: the data was deleted"; fail=1; }
+fi
+# A diagnosis that stops says so in its report's manifest (bad data: exit 2, status failed).
+printf 'not,a,record\n' >"$tmp/broken.csv"
+expect diag_report_failed 2 diagnose --data "$tmp/broken.csv" --law mohr_coulomb --report "$tmp/rep_failed" -- "broken.csv"
+grep -q '"status": "failed"' "$tmp/rep_failed/manifest.json" 2>/dev/null && grep -q '"exit_code": 2' "$tmp/rep_failed/manifest.json" ||
+  { echo "FAIL diag_report_failed: the manifest does not say failed with exit 2"; fail=1; }
 mkdir -p "$tmp/mine" && echo "my notes" >"$tmp/mine/notes.txt"
 expect diag_report_foreign 2 diagnose --data "$tmp/forward.csv" --law mohr_coulomb --report "$tmp/mine" --overwrite -- \
   "--overwrite empties only a folder rockdem wrote" "notes.txt"

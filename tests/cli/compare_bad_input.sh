@@ -94,8 +94,9 @@ if /usr/bin/python3 -c "import matplotlib" 2>/dev/null; then
   expect_compare plot_again 2 --data "$tmp/data.csv" --model "$tmp/offset.csv" --plot "$tmp/fig" -- \
     "--plot $tmp/fig: 'offset.png' exists" "--overwrite"
   expect_compare plot_other_model 0 --data "$tmp/data.csv" --model "$tmp/data.csv" --plot "$tmp/fig" --quiet --
+  : > "$tmp/fig/offset.png"  # emptied: only a replaced figure has content again
   expect_compare plot_overwrite 0 --data "$tmp/data.csv" --model "$tmp/offset.csv" --plot "$tmp/fig" --overwrite --quiet --
-  [ -s "$tmp/fig/offset.png" ] && [ -s "$tmp/fig/data.png" ] || { echo "FAIL plot_overwrite: a figure is missing"; fail=1; }
+  [ -s "$tmp/fig/offset.png" ] && [ -s "$tmp/fig/data.png" ] || { echo "FAIL plot_overwrite: the figure was not replaced"; fail=1; }
 else
   echo "skip plot: /usr/bin/python3 has no matplotlib"
 fi

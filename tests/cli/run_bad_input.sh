@@ -104,13 +104,13 @@ expect_missing_case
 
 # A fixed time step 100 times the critical one is refused before the stage runs, with the
 # stable step.
+variant dt_too_large 's/^refresh_interval = 10 .*/refresh_interval = 10\nfixed_dt = "1e-4 s"/'
+expect dt_too_large 2 "fixed_dt" "above the stable time step" "give at most"
+
 # A side that vanishes against its corner's coordinate (found by the parser replay, tests/fuzz/:
 # the model's check said "block 'upper': outline is not a simple polygon" without file or key).
 variant vanishing_side 's/^rectangle = \["51 mm", "0 mm", "203 mm", "102 mm"\]/rectangle = ["1e308 mm", "0 mm", "203 mm", "102 mm"]/'
 expect vanishing_side 2 "vanishing_side.toml:51" "rectangle" "corners coincide in double precision"
-
-variant dt_too_large 's/^refresh_interval = 10 .*/refresh_interval = 10\nfixed_dt = "1e-4 s"/'
-expect dt_too_large 2 "fixed_dt" "above the stable time step" "give at most"
 
 # Unstable: a velocity limit below the loading block's 100 mm/s stands in for a run that blows up.
 # The run must stop, name the step and the block, and leave the last good state behind.
