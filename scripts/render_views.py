@@ -1,14 +1,16 @@
 """The standard views of a `rockdem run` folder as PNG files, without ParaView or a display.
 
 Usage: /usr/bin/python3 scripts/render_views.py RUN_DIR [--step N | --time T] [--out DIR]
-                                                 [--stress-component S]
+                                                 [--stress-component S] [--relative-to BLOCK]
 
 Reads RUN_DIR/vtk/blocks.pvd and contacts.pvd (the VTK fields `rockdem run` writes; docs/
 user-guide-output.md), picks one output step (default the last; --step N exactly, or --time T
 the nearest output time in simulated seconds) and writes into DIR (default RUN_DIR/views/):
 
   blocks_displacement.png    blocks at their present place, coloured by the size of the
-                             displacement since the start [mm], block outlines drawn;
+                             displacement since the start [mm] (or relative to the rigid motion
+                             of a block or group, --relative-to: a seismic input moves the whole
+                             model), outlines drawn;
   blocks_stress.png          the zones' and rigid blocks' stress [MPa], compression positive:
                              the major principal stress (default) or xx, yy, xy;
   contacts_state.png         contact points by state (elastic, slipping, open; the names stored
@@ -26,6 +28,7 @@ it runs headless wherever rockdem builds. ParaView remains the tool for looking 
 the views a report or a quick look needs.
 """
 import argparse
+import difflib
 import json
 import os
 import sys
@@ -181,6 +184,19 @@ def colour_range(values):
     return lo, hi, extend[(clip_lo, clip_hi)]
 
 
+def relative_displacement(x, d, ref):
+    """Displacements d of points now at x, less the rigid motion (rotation and translation) that
+    best maps the reference points `ref` from where they started (x - d) onto where they are, by
+    least squares (2D Kabsch), as the drift study measures from the far field's frame."""
+    x0 = x - d
+    c0, c1 = x0[ref].mean(axis=0), x[ref].mean(axis=0)
+    a, b = x0[ref] - c0, x[ref] - c1
+    h = a.T @ b
+    theta = np.arctan2(h[0, 1] - h[1, 0], h[0, 0] + h[1, 1])
+    r = np.array([[np.cos(theta), -np.sin(theta)], [np.sin(theta), np.cos(theta)]])
+    return x - ((x0 - c0) @ r.T + c1)
+
+
 def span(values, unit):
     """'lo .. hi unit' of the finite values shown, or a word when there are none."""
     if values.size == 0:
@@ -208,6 +224,9 @@ def main(argv):
     p.add_argument("--out", help="folder for the PNGs (default RUN_DIR/views)")
     p.add_argument("--stress-component", default="major", choices=["major", "xx", "yy", "xy"],
                    help="what blocks_stress.png shows (default: the major principal stress)")
+    p.add_argument("--relative-to", metavar="BLOCK",
+                   help="show displacements relative to this block's or block group's rigid motion "
+                        "(e.g. the far field in a seismic run, whose input moves the whole model)")
     a = p.parse_args(argv)
 
     run, vdir = a.run_dir, os.path.join(a.run_dir, "vtk")
@@ -262,12 +281,35 @@ def main(argv):
         save(fig, os.path.join(out, file_name))
         return finite
 
-    # Displacement per cell: the mean of its points' displacement magnitudes.
-    dmag = np.linalg.norm(disp[:, :2], axis=1) * 1e3
+    # Displacement per cell: the mean of its points' displacement magnitudes; with --relative-to,
+    # less the named block's or group's rigid motion (a seismic input moves the whole model).
+    d2 = disp[:, :2].copy()
+    dlabel = "displacement since the start [mm]"
+    if a.relative_to:
+        bname = grid.GetCellData().GetAbstractArray("block_name")
+        if bname is None:
+            raise BadInput(f"'{bpath}' has no block_name array (written by an older rockdem? re-run the case)")
+        cell_names = [bname.GetValue(i) for i in range(bname.GetNumberOfValues())]
+        mine = sorted({int(k) for c, n in zip(cells, cell_names) if n == a.relative_to for k in c})
+        groups = names(grid, "group_names")
+        if not mine and a.relative_to in groups:  # a group of blocks (e.g. a rock mass's far field)
+            gi = groups.index(a.relative_to)
+            gcell = array(cd, "group", bpath)
+            mine = sorted({int(k) for c, gg in zip(cells, gcell) if int(gg) == gi for k in c})
+        if not mine:
+            known = sorted(set(cell_names)) + sorted(set(groups) - set(cell_names))
+            near = difflib.get_close_matches(a.relative_to, known, n=1)
+            raise BadInput(f"--relative-to: no block or group '{a.relative_to}' in {bfile}"
+                           + (f" (did you mean '{near[0]}'?)" if near else "")
+                           + f"; groups: {', '.join(groups)}; blocks: {', '.join(sorted(set(cell_names))[:12])}"
+                           + (", ..." if len(set(cell_names)) > 12 else ""))
+        d2 = relative_displacement(xy, d2, mine)
+        dlabel = f"displacement relative to {a.relative_to} [mm]"
+    dmag = np.linalg.norm(d2, axis=1) * 1e3
     cell_disp = np.array([dmag[c].mean() for c in cells])
-    shown = blocks_view(cell_disp, "displacement since the start [mm]", "blocks_displacement.png", "viridis")
-    print(f"blocks_displacement.png: {len(set(block.tolist()))} blocks, {len(cells)} cells, displacement "
-          f"{span(shown, 'mm')} (the whole model's motion included)")
+    shown = blocks_view(cell_disp, dlabel, "blocks_displacement.png", "viridis")
+    print(f"blocks_displacement.png: {len(set(block.tolist()))} blocks, {len(cells)} cells, {dlabel.split(' [')[0]} "
+          f"{span(shown, 'mm')}" + ("" if a.relative_to else " (the whole model's motion included)"))
 
     comp = a.stress_component
     if comp == "major":

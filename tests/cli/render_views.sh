@@ -4,6 +4,7 @@
 #    show is the closed form: the rigid blocks' mean vertical stress 5.0130 and 5.0390 MPa (the top
 #    load plus the weight above each centroid; the fixed base has none, drawn grey), contact normal
 #    stresses 5.026 and 5.052 MPa; --time picks the nearest output, --out another folder;
+#    --relative-to lower shows the joints' closures (0 .. 0.50520 mm);
 #  - on a jointed rock mass (tests/cli/rock_mass/sample.toml: 73 blocks, hundreds of contacts in
 #    all three states) the per-state counts add up to the contact file's points, and every PNG is
 #    a picture with content (not blank);
@@ -107,6 +108,22 @@ else
   fail=1
 fi
 
+# Relative to the lower block's rigid motion: the lower block still, the upper one the upper
+# joint's closure, the fixed base the lower joint's closure (5.0520e6 Pa / 10 GPa/m = 0.50520 mm).
+run_views stack_relative "$tmp/stack" --relative-to lower --out "$tmp/relative"
+if [ "$code" -eq 0 ] && r=$("$py" -c '
+import re, sys
+m = re.search(r"displacement relative to lower ([-\d.e+]+) \.\. ([-\d.e+]+) mm", sys.argv[1])
+want = (5e6 + 2 * 2650 * 9.81) / 10e9 * 1e3
+ok = bool(m) and abs(float(m.group(1))) < 1e-9 and abs(float(m.group(2)) - want) < 1e-3 * want
+print(f"{m.group(0) if m else sys.argv[1]} (closed form 0 .. {want:.5f} mm)")
+sys.exit(0 if ok else 1)' "$out"); then
+  echo "ok   --relative-to: $r"
+else
+  echo "FAIL --relative-to: exit $code: ${r:-} $out"
+  fail=1
+fi
+
 # --- a jointed rock mass: counts add up, pictures have content ---------------------------------
 if ! "$bin" run "$src/tests/cli/rock_mass/sample.toml" --out "$tmp/mass" --quiet --no-plots >"$tmp/mass.log" 2>&1; then
   echo "FAIL the rock-mass sample did not run: $(tail -5 "$tmp/mass.log")"
@@ -143,5 +160,6 @@ bad no_folder 2 "$tmp/nowhere" -- "nowhere' is not a folder"
 bad no_vtk 2 "$tmp/empty" -- "has no vtk/blocks.pvd" "vtk_interval = 0"
 bad step_not_written 2 "$tmp/stack" --step 7 -- "--step 7" "no output at that step" "written steps"
 bad out_is_a_file 1 "$tmp/stack" --out "$tmp/a_file/views" -- "cannot create"
+bad relative_to_unknown 2 "$tmp/stack" --relative-to lowr --out "$tmp/v3" -- "no block or group 'lowr'" "did you mean 'lower'?"
 
 exit $fail
