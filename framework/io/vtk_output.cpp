@@ -106,21 +106,20 @@ void upsert(std::vector<VtkSeries::Entry>& entries, VtkSeries::Entry e) {
     entries.push_back(std::move(e));
 }
 
-// The names of the edge labels, "<joint>" or "<joint> bridge" ("cut" for glued cuts), by index.
-vtkNew<vtkStringArray> edge_label_names(const Model& m) {
-  vtkNew<vtkStringArray> names;
-  names->SetName("edge_label_names");
-  for (const auto& l : m.contacts.edge_labels)
-    names->InsertNextValue(l.joint.empty() ? std::string("cut") : l.joint + (l.bridge ? " bridge" : ""));
-  return names;
-}
-
 // A list of names as a field-data string array (category names for an integer array).
 vtkNew<vtkStringArray> name_list(const char* array_name, const std::vector<std::string>& names) {
   vtkNew<vtkStringArray> a;
   a->SetName(array_name);
   for (const std::string& x : names) a->InsertNextValue(x);
   return a;
+}
+
+// The names of the edge labels, "<joint>" or "<joint> bridge" ("cut" for glued cuts), by index.
+vtkNew<vtkStringArray> edge_label_names(const Model& m) {
+  std::vector<std::string> names;
+  for (const auto& l : m.contacts.edge_labels)
+    names.push_back(l.joint.empty() ? std::string("cut") : l.joint + (l.bridge ? " bridge" : ""));
+  return name_list("edge_label_names", names);
 }
 
 }  // namespace
@@ -359,12 +358,7 @@ void add_fields(vtkUnstructuredGrid* grid, vtkDataSetAttributes* data, const Vtk
     for (vtkIdType i = 0; i < n; ++i) a->SetValue(i, v[static_cast<std::size_t>(i)]);
     data->AddArray(a);
   }
-  for (const auto& [name, v] : fields.names) {
-    vtkNew<vtkStringArray> a;
-    a->SetName(name.c_str());
-    for (const std::string& x : v) a->InsertNextValue(x);
-    grid->GetFieldData()->AddArray(a);
-  }
+  for (const auto& [name, v] : fields.names) grid->GetFieldData()->AddArray(name_list(name.c_str(), v));
 }
 
 }  // namespace
