@@ -81,11 +81,7 @@ const CommandRegistrar reg{Command{
         }
         // A diagnosis that stops (bad data, a failed fit or plot) says so in its report's manifest.
         const auto close_report = [&](const std::string& status, int code) {
-          if (report->empty()) return;
-          manifest.ended_utc = utc_now();
-          manifest.status = status;
-          manifest.exit_code = code;
-          write_manifest(*report, manifest);
+          if (!report->empty()) close_manifest(*report, manifest, status, code);
         };
         const auto work = [&]() -> int {
           DiagnosisOptions o = *opt;

@@ -95,10 +95,7 @@ int run_with_manifest(Case& c, const fs::path& dir, bool quiet, const std::strin
   const auto started = fs::file_time_type::clock::now() - std::chrono::seconds(1);
   auto record = [&](const std::string& status, int code) {
     if (!comm.root()) return;  // process 0 writes the outputs
-    m.ended_utc = utc_now();
-    m.status = status;
-    m.exit_code = code;
-    write_manifest(dir, m);
+    close_manifest(dir, m, status, code);
     std::error_code ec;
     for (const auto& e : fs::directory_iterator(dir, ec)) {
       const std::string name = e.path().filename().string();

@@ -152,6 +152,13 @@ void write_manifest(const fs::path& dir, const Manifest& m) {
   write_file_atomically(dir / "manifest.json", s);
 }
 
+void close_manifest(const fs::path& dir, Manifest& m, const std::string& status, int exit_code) {
+  m.ended_utc = utc_now();
+  m.status = status;
+  m.exit_code = exit_code;
+  write_manifest(dir, m);
+}
+
 void stamp_hdf5(const fs::path& h5_file, const Manifest& m) {
   const std::string path = h5_file.string();
   h5::QuietErrors quiet;

@@ -41,6 +41,9 @@ struct Manifest {
 // rename. Throws std::runtime_error naming the path when the disk is full or the folder unwritable.
 void write_manifest(const std::filesystem::path& dir, const Manifest& m);
 
+// Records the end of what wrote the folder (end time, status, exit code) in `m` and writes it.
+void close_manifest(const std::filesystem::path& dir, Manifest& m, const std::string& status, int exit_code);
+
 // Copies the manifest into root attributes of an HDF5 file written by this run (rockdem_version,
 // rockdem_commit, command_line, case_file, stages, started_utc, ended_utc, status, exit_code).
 void stamp_hdf5(const std::filesystem::path& h5_file, const Manifest& m);
