@@ -1,5 +1,5 @@
 // `rockdem calibrate --data FILE.csv --law LAW [--effects a,b] [--fix p=v ...] [--free p ...]
-// [--case CASE.toml] [--json OUT] [--save-model MODEL.csv]`: fits the law's (and effects') free
+// [--case CASE.toml] [--json OUT] [--save-model MODEL.csv] [--overwrite]`: fits the law's (and effects') free
 // parameters to a measured record (framework/analysis/calibration.hpp) and prints the parameter
 // table (value +- standard error, unit, at-bound flag), the NRMSE as `rockdem compare` defines it
 // and the fit status. Without --case the stages and shear paths come from the record itself.
@@ -49,11 +49,22 @@ const CommandRegistrar reg{Command{
       sub.add_option("--max-iterations", opt->max_iterations, "Levenberg-Marquardt iterations")->check(CLI::Range(1, 1000))->capture_default_str();
       sub.add_option("--threads", opt->threads, "threads for the finite-difference Jacobian")->check(CLI::Range(1, 64))->capture_default_str();
       sub.add_flag("--quiet", *quiet, "print nothing but errors");
+      auto overwrite = std::make_shared<bool>(false);
+      sub.add_flag("--overwrite", *overwrite, "replace the files --json and --save-model write if they exist");
       return [=]() -> int {
         if (data->empty()) throw InputError("rockdem calibrate: --data MEASURED.csv is required");
         if (law->empty()) {
           throw InputError("rockdem calibrate: --law LAW is required; valid laws: " + JointLawRegistry::instance().names_joined());
         }
+        if (*overwrite && json->empty() && save_model->empty())
+          throw InputError("rockdem calibrate: --overwrite goes with --json or --save-model (it replaces their files)");
+        // Known before the fit, which may take minutes.
+        ResultFilePlan plan;
+        plan.input("--data", *data);
+        plan.input("--case", *case_file);
+        plan.output("--json", *json);
+        plan.output("--save-model", *save_model);
+        plan.check(*overwrite);
         CalibrationOptions o = *opt;
         CalibrationInputs in{*law, *effects, *case_file, *fixes, *frees, *sets};
         const MeasurementFile d = read_measurement_csv(*data);

@@ -1,4 +1,4 @@
-// `rockdem compare --data MEASURED.csv --model MODEL.csv [--json OUT] [--plot DIR [--overwrite]] [--quiet]`, or
+// `rockdem compare --data MEASURED.csv --model MODEL.csv [--json OUT] [--plot DIR] [--overwrite] [--quiet]`, or
 // `--case CASE.toml` instead of --model to run the laboratory-test case as an element test first:
 // aligns a model record on a measured one by shear displacement (framework/analysis/compare.hpp),
 // prints the error table and the worst segments in words, writes the JSON and, with --plot, the
@@ -48,7 +48,7 @@ const CommandRegistrar reg{Command{
       sub.add_option("--json", *json, "write the full comparison as JSON to this file");
       sub.add_option("--plot", *plot, "write the figure <model name>.png into this folder");
       auto overwrite = std::make_shared<bool>(false);
-      sub.add_flag("--overwrite", *overwrite, "replace the files --plot writes if they exist");
+      sub.add_flag("--overwrite", *overwrite, "replace the files --json, --save-model and --plot write if they exist");
       sub.add_flag("--quiet", *quiet, "print nothing but errors");
       sub.add_option("--reversal-fraction", opt->segmentation.reversal_fraction,
                      "reversal threshold as a fraction of each stage's displacement range")
@@ -68,7 +68,14 @@ const CommandRegistrar reg{Command{
         if (!save_model->empty() && case_file->empty()) {
           throw InputError("rockdem compare: --save-model goes with --case (with --model the record is already a file)");
         }
-        if (*overwrite && plot->empty()) throw InputError("rockdem compare: --overwrite goes with --plot DIR");
+        if (*overwrite && plot->empty() && json->empty() && save_model->empty())
+          throw InputError("rockdem compare: --overwrite goes with --json, --save-model or --plot (it replaces their files)");
+        ResultFilePlan plan;
+        plan.input("--data", *data);
+        plan.input("--model", *model);
+        plan.input("--case", *case_file);
+        plan.output("--json", *json);
+        plan.output("--save-model", *save_model);
         // --plot DIR is a folder many comparisons may share (one figure per model, as scripts/demo
         // uses it), so it is not emptied; but a file of an earlier comparison is never replaced
         // unless the user says so, and that is known before the element test runs.
@@ -83,7 +90,9 @@ const CommandRegistrar reg{Command{
             if (!*overwrite && fs::exists(f, ec))
               throw InputError("--plot " + *plot + ": '" + f.filename().string() + "' exists (an earlier comparison's); "
                                "add --overwrite to replace it, or give another folder");
+          for (const fs::path& f : mine) plan.output("--plot", f.string(), true);
         }
+        plan.check(*overwrite);
         const auto t0 = std::chrono::steady_clock::now();
         const MeasurementFile d = read_measurement_csv(*data);
         MeasurementFile m;

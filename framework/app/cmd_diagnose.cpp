@@ -1,4 +1,4 @@
-// `rockdem diagnose --data FILE.csv --law LAW [--json OUT.json] [--report DIR [--overwrite]]
+// `rockdem diagnose --data FILE.csv --law LAW [--json OUT.json] [--report DIR] [--overwrite]
 // [--effects a,b] [--case CASE.toml] [--fix p=v] [--set p=v] [--threads N]`: calibrates the base law, says where
 // it fails, which covariates the residual follows, which catalogue effect helps most (BIC) and
 // climbs the ladder of effects (framework/analysis/diagnosis.hpp). --report writes the aligned
@@ -46,7 +46,8 @@ const CommandRegistrar reg{Command{
       sub.add_option("--json", *json, "write the diagnosis as JSON");
       sub.add_option("--report", *report, "write figures and the aligned records into this folder (new or empty)");
       auto overwrite = std::make_shared<bool>(false);
-      sub.add_flag("--overwrite", *overwrite, "empty the --report folder first (only one an earlier diagnose wrote)");
+      sub.add_flag("--overwrite", *overwrite,
+                   "replace the --json file if it exists; empty the --report folder first (only one an earlier diagnose wrote)");
       sub.add_option("--threads", opt->threads, "threads (effects fitted in parallel)")->check(CLI::Range(1, 64))->capture_default_str();
       sub.add_flag("--fit-unjudged", opt->fit_unjudged,
                    "fit also the effects this record cannot reveal (reported, kept out of the ladder)");
@@ -56,7 +57,13 @@ const CommandRegistrar reg{Command{
         if (in->law.empty()) {
           throw InputError("rockdem diagnose: --law LAW is required; valid laws: " + JointLawRegistry::instance().names_joined());
         }
-        if (*overwrite && report->empty()) throw InputError("rockdem diagnose: --overwrite goes with --report DIR");
+        if (*overwrite && report->empty() && json->empty())
+          throw InputError("rockdem diagnose: --overwrite goes with --json or --report (it replaces their files)");
+        ResultFilePlan plan;
+        plan.input("--data", *data);
+        plan.input("--case", in->case_file);
+        plan.output("--json", *json);
+        plan.check(*overwrite);
         // The report folder is the diagnosis's own, as a run's --out is: checked before the fit
         // (which may take minutes), never mixed with an earlier report's figures, and marked with a
         // manifest saying which command made it (kind "diagnose report": --overwrite never

@@ -1,4 +1,4 @@
-// `rockdem element CASE.toml [--out FILE.csv]`: drives one joint point through the stages of a
+// `rockdem element CASE.toml [--out FILE.csv] [--overwrite]`: drives one joint point through the stages of a
 // laboratory direct-shear test (framework/lab/lab_case.hpp: the case file; element_driver.hpp: the
 // driver) and writes the result in the measurement format.
 #include <cstdio>
@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "framework/app/command.hpp"
+#include "framework/app/result_files.hpp"
 #include "framework/core/error.hpp"
 #include "framework/lab/lab_case.hpp"
 #include "framework/io/measurement_csv.hpp"
@@ -24,8 +25,15 @@ const CommandRegistrar reg{Command{
       sub.add_option("case", *file, "laboratory-test case file (TOML), e.g. cases/direct_shear/test09_mohr_coulomb.toml")->required();
       sub.add_option("--out", *out, "output CSV (default: <case name>.csv in the current folder)");
       sub.add_flag("--quiet", *quiet, "no summary on standard output");
-      return [file, out, quiet]() -> int {
+      auto overwrite = std::make_shared<bool>(false);
+      sub.add_flag("--overwrite", *overwrite, "replace the output CSV if it exists");
+      return [file, out, quiet, overwrite]() -> int {
+        const std::string path = out->empty() ? fs::path(*file).stem().string() + ".csv" : *out;
+        ResultFilePlan plan;
+        plan.input("the case file", *file);
+        plan.output(out->empty() ? "the default --out" : "--out", path);
         const LabTest c = read_lab_test(*file);
+        plan.check(*overwrite);  // before the element test runs
         const ElementRun run = [&] {
           try {
             return run_element_test(c);
@@ -35,7 +43,6 @@ const CommandRegistrar reg{Command{
         }();
         const MeasurementFile& mf = run.record;
         const double ms = run.wall_ms;
-        const std::string path = out->empty() ? fs::path(*file).stem().string() + ".csv" : *out;
         try {
           write_measurement_csv(path, mf);
         } catch (const InputError& e) {

@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "framework/app/command.hpp"
+#include "framework/app/result_files.hpp"
 #include "framework/io/output_folder.hpp"
 #include "framework/core/error.hpp"
 #include "framework/core/units.hpp"
@@ -29,6 +30,7 @@ struct Options {
   // Processing; empty = not given (defaults below), so that any one given option asks for processing.
   std::string start, end, baseline, taper, pad, highpass, lowpass, order, disp_baseline, peak;
   std::string out, label, periods, damping = "0.05";
+  bool overwrite = false;
 };
 
 double quantity(const std::string& text, Dimension d, const char* option) {
@@ -129,6 +131,11 @@ int run(const Options& o, const CLI::App& sub) {
         "ground-motion: --units is required (the unit of the record's values: g, m/s^2, or a quantity "
         "such as \"9.81 m/s^2\"); a wrong unit is the commonest silent error in a record");
   }
+  if (o.overwrite && o.out.empty()) throw InputError("ground-motion: --overwrite goes with --out (it replaces that file)");
+  ResultFilePlan plan;
+  plan.input("the record", o.record);
+  plan.output("--out", o.out);
+  plan.check(o.overwrite);
   RecordLayout layout;
   try {
     layout.unit = parse_acceleration_unit(o.units);
@@ -225,6 +232,7 @@ const CommandRegistrar reg{Command{
                      "remove powers 2..N of time from the displacement; 0 = none (default 0)");
       sub.add_option("--peak", o->peak, "scale to this peak |displacement|, e.g. \"25.4 mm\" (default: unscaled)");
       sub.add_option("--out", o->out, "write the drive CSV (time_s,shear_disp_mm) here");
+      sub.add_flag("--overwrite", o->overwrite, "replace the --out file if it exists");
       sub.add_option("--label", o->label, "text of the drive file's '# drive:' line");
       sub.add_option("--sdof-periods", o->periods,
                      "print linear SDOF peak displacements for these periods, e.g. 0.5,1,2 (s) or \"500 ms,1 s\"");

@@ -10,6 +10,7 @@
 #include <algorithm>
 
 #include "framework/app/command.hpp"
+#include "framework/app/result_files.hpp"
 #include "framework/core/error.hpp"
 #include "framework/io/measurement_csv.hpp"
 #include "framework/lab/virtual_lab/twin.hpp"
@@ -30,13 +31,19 @@ const CommandRegistrar reg{Command{
       sub.add_option("--seed", *seed, "seed of the profile and the noise (default: the case's seed)")
           ->check(CLI::Range(0LL, 2147483647LL));
       sub.add_flag("--quiet", *quiet, "no summary on standard output");
-      return [file, out, seed, quiet]() -> int {
+      auto overwrite = std::make_shared<bool>(false);
+      sub.add_flag("--overwrite", *overwrite, "replace the output CSV if it exists");
+      return [file, out, seed, quiet, overwrite]() -> int {
+        const std::string path =
+            out->empty() ? std::filesystem::path(*file).stem().string() + ".csv" : *out;
+        ResultFilePlan plan;
+        plan.input("the case file", *file);
+        plan.output(out->empty() ? "the default --out" : "--out", path);
         const vlab::TwinCase c = vlab::read_twin_case(*file);
+        plan.check(*overwrite);  // before the twin is made
         std::optional<std::uint64_t> s;
         if (*seed >= 0) s = static_cast<std::uint64_t>(*seed);
         const vlab::TwinRun r = vlab::run_twin(c, s);
-        const std::string path =
-            out->empty() ? std::filesystem::path(*file).stem().string() + ".csv" : *out;
         write_measurement_csv(path, r.record);
         if (!*quiet) {
           std::printf("%s: synthetic twin, seed %llu, profile JRC %.2f, %zu stage(s), %ld steps in %.1f ms -> %s (%zu rows)\n",

@@ -1,6 +1,7 @@
 #include "framework/app/result_files.hpp"
 
 #include <cmath>
+#include <filesystem>
 
 #include "framework/core/error.hpp"
 #include "framework/io/output_folder.hpp"
@@ -28,5 +29,50 @@ void require_finite_result(const nlohmann::json& j, const std::string& inputs) {
 }
 
 void write_json_result(const std::string& path, const nlohmann::json& j) { write_file_atomically(path, j.dump(2) + "\n"); }
+
+}  // namespace rockdem
+
+namespace rockdem {
+
+namespace {
+namespace fs = std::filesystem;
+
+// Whether two names are the same file, by what the file system says when both exist and by
+// their normalised paths when one does not yet.
+bool same_file(const std::string& a, const std::string& b) {
+  std::error_code ec;
+  if (fs::exists(a, ec) && fs::exists(b, ec)) return fs::equivalent(a, b, ec);
+  return fs::weakly_canonical(a, ec) == fs::weakly_canonical(b, ec);
+}
+}  // namespace
+
+void ResultFilePlan::input(const std::string& option, const std::string& path) {
+  if (!path.empty()) inputs_.emplace_back(option, path);
+}
+
+void ResultFilePlan::output(const std::string& option, const std::string& path, bool makes_folder) {
+  if (!path.empty()) outputs_.push_back({option, path, makes_folder});
+}
+
+void ResultFilePlan::check(bool overwrite) const {
+  std::error_code ec;
+  for (std::size_t k = 0; k < outputs_.size(); ++k) {
+    const auto& [option, path, makes_folder] = outputs_[k];
+    const std::string what = option + " " + path;
+    for (const auto& [in_option, in_path] : inputs_)
+      if (same_file(path, in_path))
+        throw InputError(what + ": this is " + in_option + ", an input; writing the result would replace it "
+                         "(even with --overwrite); give the result another name");
+    for (std::size_t j = 0; j < k; ++j)
+      if (same_file(path, outputs_[j].path))
+        throw InputError(what + ": " + outputs_[j].option + " writes the same file; give each result its own name");
+    if (fs::is_directory(path, ec)) throw InputError(what + ": is a folder; give a file name");
+    const fs::path parent = fs::path(path).parent_path();
+    if (!makes_folder && !parent.empty() && !fs::is_directory(parent, ec))
+      throw InputError(what + ": the folder '" + parent.string() + "' does not exist (create it first)");
+    if (fs::exists(path, ec) && !overwrite)
+      throw InputError(what + ": the file exists (an earlier result?); add --overwrite to replace it, or give another name");
+  }
+}
 
 }  // namespace rockdem

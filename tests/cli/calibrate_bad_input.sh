@@ -103,7 +103,7 @@ expect diag_report_foreign 2 diagnose --data "$tmp/forward.csv" --law mohr_coulo
   "--overwrite empties only a folder rockdem wrote" "notes.txt"
 grep -q "my notes" "$tmp/mine/notes.txt" || { echo "FAIL diag_report_foreign: the user's file was touched"; fail=1; }
 expect diag_overwrite_alone 2 diagnose --data "$tmp/forward.csv" --law mohr_coulomb --overwrite -- \
-  "--overwrite goes with --report DIR"
+  "--overwrite goes with --json or --report"
 
 # A joint that would lift off within one fitting step (Continuously-Yielding on the first 1,200
 # rows of test 14's twin: at 0.05 mm with the stiff default kn it fell to 0 MPa, the baseline

@@ -101,7 +101,7 @@ else
   echo "skip plot: /usr/bin/python3 has no matplotlib"
 fi
 
-expect_compare overwrite_alone 2 --data "$tmp/data.csv" --model "$tmp/offset.csv" --overwrite -- "--overwrite goes with --plot DIR"
+expect_compare overwrite_alone 2 --data "$tmp/data.csv" --model "$tmp/offset.csv" --overwrite -- "--overwrite goes with --json, --save-model or --plot"
 
 # The case-level form runs the element test first; compared with that test's own record: zero.
 case_file="$src/cases/direct_shear/test09_mohr_coulomb.toml"

@@ -26,9 +26,19 @@ done
 # Figure 3-2's plateau (3 tan 38 deg = 2.3439 MPa both ways) appears in the summary.
 "$bin" element "$src/cases/element/report_fig3-2_mohr_coulomb.toml" --out "$tmp/f.csv" |
   grep -qF -- "-2.3439 .. +2.3439 MPa" || { echo "FAIL fig 3-2 plateau"; fail=1; }
-# Default output name: <case stem>.csv in the current folder.
-(cd "$tmp" && "$bin" element --quiet "$src/cases/element/report_fig3-5_barton_bandis.toml") &&
-  [ -s "$tmp/report_fig3-5_barton_bandis.csv" ] || { echo "FAIL default output name"; fail=1; }
+# Default output name: <case stem>.csv in the current folder; the loop above wrote it already, so
+# it is refused (exit 2) and left as it was unless --overwrite.
+rm -rf "$tmp/default" && mkdir "$tmp/default"
+(cd "$tmp/default" && "$bin" element --quiet "$src/cases/element/report_fig3-5_barton_bandis.toml") &&
+  [ -s "$tmp/default/report_fig3-5_barton_bandis.csv" ] || { echo "FAIL default output name"; fail=1; }
+echo "an earlier result" > "$tmp/default/report_fig3-5_barton_bandis.csv"
+out=$(cd "$tmp/default" && "$bin" element --quiet "$src/cases/element/report_fig3-5_barton_bandis.toml" 2>&1)
+code=$?
+{ [ $code -eq 2 ] && grep -qF "the default --out report_fig3-5_barton_bandis.csv: the file exists" <<<"$out" &&
+  grep -qx "an earlier result" "$tmp/default/report_fig3-5_barton_bandis.csv"; } ||
+  { echo "FAIL default output name again: exit $code, $out"; fail=1; }
+(cd "$tmp/default" && "$bin" element --quiet --overwrite "$src/cases/element/report_fig3-5_barton_bandis.toml") &&
+  grep -q "^$header" "$tmp/default/report_fig3-5_barton_bandis.csv" || { echo "FAIL --overwrite did not replace"; fail=1; }
 # path = "file": replay the shear displacement history of stage 2 of a measurement file.
 cat >"$tmp/record.csv" <<CSV
 # specimen: replay

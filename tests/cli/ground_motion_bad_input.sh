@@ -63,7 +63,7 @@ expect bad_period 2 "option --sdof-periods 'x'" -- "$ec" --units g --sdof-period
 expect bad_damping 2 "damping ratio 1.5" "0 <= damping < 1" -- "$ec" --units g --sdof-periods 1 --damping 1.5
 expect dt_with_time_column 2 "option --dt is only for records without a time column" -- "$ec" --units g --dt "0.01 s"
 # A write failure is not an input error: exit 1 naming the path (docs/reliability.md).
-expect unwritable_out 1 "cannot write $tmp/no/dir/d.csv" -- "$mx" --column 3 --units g --peak "1 mm" --out "$tmp/no/dir/d.csv"
+expect out_folder_missing 2 "--out $tmp/no/dir/d.csv" "does not exist" -- "$mx" --column 3 --units g --peak "1 mm" --out "$tmp/no/dir/d.csv"
 
 printf '0 0.1\n0.02 0.2\n0.05 0.1\n0.06 0.0\n' >"$tmp/uneven.txt"
 expect uneven_record 2 "uneven.txt:3" "off the uniform grid" "resample" -- "$tmp/uneven.txt" --units g

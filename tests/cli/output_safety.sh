@@ -89,8 +89,61 @@ done
 expect restart_from_interrupted_refused 2 run --default --out "$tmp/sig_INT" --restart "$tmp/sig_INT/interrupted_state.h5" --quiet -- \
   "interrupted run" "stage_<n>_<name>.h5"
 
+# --- 3b. result files are never silently replaced ----------------------------------------------
+# Every command's --out FILE, --json and --save-model: an existing file is refused before the work
+# (exit 2, the file left as it was) unless --overwrite; an output that is one of the command's
+# inputs, or another of its outputs, is refused even with --overwrite; checked before a fit runs.
+twin="$src/cases/direct_shear/twins/test09.csv"
+mkdir -p "$tmp/res"
+keep() {  # name file: the file still holds what the user put there
+  grep -qx "keep me" "$2" || { echo "FAIL $1: $2 was replaced"; fail=1; }
+}
+echo "keep me" > "$tmp/res/e.csv"
+expect element_exists 2 element "$lab" --out "$tmp/res/e.csv" -- "--out $tmp/res/e.csv" "the file exists" "--overwrite"
+keep element_exists "$tmp/res/e.csv"
+expect element_overwrite 0 element "$lab" --out "$tmp/res/e.csv" --quiet --overwrite --
+grep -q "^time_s," "$tmp/res/e.csv" || { echo "FAIL element --overwrite did not write the record"; fail=1; }
+expect element_onto_case 2 element "$lab" --out "$lab" --overwrite -- "is the case file, an input" "even with --overwrite"
+expect element_folder 2 element "$lab" --out "$tmp/res" -- "is a folder"
+expect element_no_folder 2 element "$lab" --out "$tmp/no/such/folder/e.csv" -- "the folder '$tmp/no/such/folder' does not exist"
+echo "keep me" > "$tmp/res/c.json"
+expect compare_json_exists 2 compare --data "$twin" --model "$tmp/res/e.csv" --json "$tmp/res/c.json" -- "--json $tmp/res/c.json" "the file exists"
+keep compare_json_exists "$tmp/res/c.json"
+expect compare_json_overwrite 0 compare --data "$twin" --model "$tmp/res/e.csv" --json "$tmp/res/c.json" --overwrite --quiet --
+/usr/bin/python3 -c "import json,sys; json.load(open(sys.argv[1]))['nrmse']" "$tmp/res/c.json" || { echo "FAIL compare --overwrite json"; fail=1; }
+cp "$twin" "$tmp/res/measured.csv"
+expect compare_onto_data 2 compare --data "$tmp/res/measured.csv" --case "$lab" --save-model "$tmp/res/measured.csv" --overwrite -- \
+  "--save-model $tmp/res/measured.csv: this is --data, an input"
+cmp -s "$twin" "$tmp/res/measured.csv" || { echo "FAIL compare_onto_data: the measured record changed"; fail=1; }
+expect compare_two_outputs 2 compare --data "$twin" --case "$lab" --save-model "$tmp/res/m.csv" --json "$tmp/res/m.csv" -- \
+  "--json writes the same file"
+echo "keep me" > "$tmp/res/fit.json"
+t0=$(date +%s)
+expect calibrate_json_exists 2 calibrate --data "$twin" --law mohr_coulomb --json "$tmp/res/fit.json" -- "--json $tmp/res/fit.json" "the file exists"
+keep calibrate_json_exists "$tmp/res/fit.json"
+expect calibrate_model_onto_data 2 calibrate --data "$tmp/res/measured.csv" --law mohr_coulomb --save-model "$tmp/res/measured.csv" --overwrite -- \
+  "this is --data, an input"
+expect diagnose_json_exists 2 diagnose --data "$twin" --law mohr_coulomb --json "$tmp/res/fit.json" -- "the file exists"
+keep diagnose_json_exists "$tmp/res/fit.json"
+[ $(( $(date +%s) - t0 )) -le 20 ] || { echo "FAIL refusals came after the fits, not before"; fail=1; }
+echo "keep me" > "$tmp/res/drive.csv"
+expect ground_motion_exists 2 ground-motion "$src/cases/data/ground_motions/mexico1985_sct_acc_g.txt" --column 3 --units g \
+  --peak "1 mm" --out "$tmp/res/drive.csv" -- "--out $tmp/res/drive.csv" "the file exists"
+keep ground_motion_exists "$tmp/res/drive.csv"
+echo "keep me" > "$tmp/res/twin.csv"
+expect virtual_lab_exists 2 virtual-lab "$src/cases/virtual_lab/test09.toml" --out "$tmp/res/twin.csv" -- "the file exists"
+keep virtual_lab_exists "$tmp/res/twin.csv"
+echo "keep me" > "$tmp/res/dem.toml"
+expect write_case_exists 2 run "$lab" --write-case "$tmp/res/dem.toml" -- "--write-case $tmp/res/dem.toml" "the file exists"
+keep write_case_exists "$tmp/res/dem.toml"
+expect write_case_overwrite 0 run "$lab" --write-case "$tmp/res/dem.toml" --overwrite --quiet --
+grep -q "^\[\[blocks\]\]" "$tmp/res/dem.toml" || { echo "FAIL --write-case --overwrite"; fail=1; }
+expect write_blocks_first 0 run "$src/cases/rock_mass/drift.toml" --write-blocks "$tmp/res/blocks" --quiet --
+expect write_blocks_again 2 run "$src/cases/rock_mass/drift.toml" --write-blocks "$tmp/res/blocks" --quiet -- \
+  "--write-blocks $tmp/res/blocks/blocks.vtu: the file exists"
+expect write_blocks_overwrite 0 run "$src/cases/rock_mass/drift.toml" --write-blocks "$tmp/res/blocks" --quiet --overwrite --
+
 # --- 1d. write failures: exit 1 naming the path, never a crash ---------------------------------
-expect element_unwritable 1 element "$lab" --out "$tmp/no/such/folder/e.csv" -- "$tmp/no/such/folder/e.csv"
 mkdir -p "$tmp/full"
 if mount -t tmpfs -o size=200k tmpfs "$tmp/full" 2>/dev/null; then
   mnt="$tmp/full"
