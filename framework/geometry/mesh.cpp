@@ -91,6 +91,10 @@ TriMesh mesh_polygon(const Polygon& polygon_in, double zone_size) {
       CGAL::refine_Delaunay_mesh_2(cdt, Criteria(0.125, zone_size));
     } else {
       CGAL::Delaunay_mesher_no_edge_refinement_2<CDT, Criteria> mesher(cdt, Criteria(0.125, zone_size));
+      // CGAL 5.5's constructors leave the seeds' mark uninitialised (Delaunay_mesher_2's set it to
+      // false) and refine_mesh() reads it: undefined behaviour that UBSan reports, though with no
+      // seeds the value is never used. clear_seeds() sets it.
+      mesher.clear_seeds();
       mesher.refine_mesh();
     }
   };
