@@ -16,14 +16,18 @@ namespace rockdem {
 
 FreeFieldCondition::FreeFieldCondition(std::vector<FaceSelection> sels, std::vector<Node> nodes,
                                        std::vector<Element> elements, std::vector<Spring> springs,
-                                       std::vector<SideEdge> edges, bool rigid_base, bool hold_static)
+                                       std::vector<SideEdge> edges, Ends ends, bool hold_static)
     : sels_(std::move(sels)),
       nodes_(std::move(nodes)),
       elements_(std::move(elements)),
       springs_(std::move(springs)),
       edges_(std::move(edges)),
-      rigid_base_(rigid_base),
+      rigid_base_(ends.rigid_base),
+      quiet_top_(ends.quiet_top),
       hold_static_(hold_static) {
+  const int top = static_cast<int>(nodes_.size()) - 1;  // nodes are sorted by height
+  for (std::size_t i = 0; i < elements_.size(); ++i)
+    if (elements_[i].b == top) top_element_ = static_cast<int>(i);
   // Gershgorin bound on the column's own stable step (its nodes have no other stiffness).
   std::vector<double> k(nodes_.size(), 0.0);
   for (const Element& e : elements_) {
@@ -45,7 +49,8 @@ std::string FreeFieldCondition::describe(const Model& m) const {
   std::ostringstream os;
   os << "free field beside " << sels_.size() << " block(s) from '" << m.blocks[sels_.front().block].name << "': "
      << nodes_.size() << " nodes, " << elements_.size() << " elements, " << springs_.size() << " joint springs, "
-     << (rigid_base_ ? "rigid" : "compliant") << " base" << (hold_static_ ? ", static reactions held" : "");
+     << (rigid_base_ ? "rigid" : "compliant") << " base, " << (quiet_top_ ? "quiet" : "free") << " top"
+     << (hold_static_ ? ", static reactions held" : "");
   return os.str();
 }
 
@@ -103,6 +108,13 @@ void FreeFieldCondition::column_forces(double t) {
     Node& b = nodes_[static_cast<std::size_t>(kBase)];
     const Vec2 dv = base_input(motions_, t, rigid_base_) - b.v;
     b.f += e.rho * Vec2(e.cs() * dv.x(), e.cp() * dv.y());
+  }
+  if (quiet_top_) {
+    // Waves going up leave through the top, as they leave the model's quiet top: the column's
+    // side shear then balances the moment of the base input against the model's top dashpots.
+    const Element& e = elements_[static_cast<std::size_t>(top_element_)];
+    Node& n = nodes_.back();
+    n.f -= e.rho * Vec2(e.cs() * n.v.x(), e.cp() * n.v.y());
   }
 }
 
@@ -230,6 +242,14 @@ std::unique_ptr<BoundaryCondition> make_free_field(const ConditionInput& in, con
       throw InputError(v->where + ": unknown base '" + s + "'; valid: compliant, rigid (as the model's seismic base)");
     rigid_base = s == "rigid";
   }
+  bool quiet_top = false;
+  if (const ConditionValue* v = in.value("top")) {
+    const std::string& s = v->names.front();
+    if (s != "free" && s != "quiet")
+      throw InputError(v->where + ": unknown top '" + s + "'; valid: free, quiet (as the model's top: quiet when a quiet "
+                       "boundary is on it)");
+    quiet_top = s == "quiet";
+  }
   for (const char* k : {"cp", "cs", "density"})
     if (const ConditionValue* v = in.value(k))
       throw InputError(v->where + ": a free field takes the elastic constants of the zones beside the side; '" + k +
@@ -330,14 +350,18 @@ std::unique_ptr<BoundaryCondition> make_free_field(const ConditionInput& in, con
   if (std::none_of(elements.begin(), elements.end(), [](const auto& e) { return e.a == 0; }))
     throw InputError(in.where + ": the lowest point of the free-field side has no side edge above it");
   return std::make_unique<FreeFieldCondition>(all, std::move(sorted), std::move(elements), std::move(springs),
-                                              std::move(edges), rigid_base, hold_static_reactions(in));
+                                              std::move(edges), FreeFieldCondition::Ends{rigid_base, quiet_top},
+                                              hold_static_reactions(in));
 }
 
 std::unique_ptr<BoundaryCondition> make_single(const ConditionInput& in) { return make_free_field(in, {in.selection}); }
 
 std::vector<ConditionKey> free_field_keys() {
   std::vector<ConditionKey> k{{"base", ConditionKey::Type::choice, Dimension::dimensionless,
-                               "compliant (default) or rigid: the column's base, as the model's seismic base"}};
+                               "compliant (default) or rigid: the column's base, as the model's seismic base"},
+                              {"top", ConditionKey::Type::choice, Dimension::dimensionless,
+                               "free (default) or quiet: the column's top, as the model's top (quiet when a quiet "
+                               "boundary lets waves leave through it)"}};
   for (auto& d : dashpot_keys()) k.push_back(std::move(d));
   return k;
 }

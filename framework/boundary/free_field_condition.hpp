@@ -15,7 +15,8 @@ namespace rockdem {
 // shear stiffness (the free field stays elastic: the far-field joint neither slips nor opens).
 // It is laterally uniform: vertical waves only (shear for x motions, compression for y ones).
 // Its base takes the same motions as the model's (compliant with stress input, or rigid), its top
-// is free, and it starts from rest: it carries the dynamic part of the motion only, the static
+// is free or quiet, as the model's top must be (a quiet model top above free column tops makes a
+// couple that turns the whole model), and it starts from rest: it carries the dynamic part of the motion only, the static
 // stress being held by the reactions taken at the start (as QuietCondition).
 //
 // On the model's side gridpoint g of a side edge with outward normal n, tangent t and length L:
@@ -41,9 +42,13 @@ class FreeFieldCondition final : public BoundaryCondition {
   struct SideEdge {  // a model edge on the side, the element beside it, its ends' nodes
     int ga = 0, gb = 0, element = 0, na = 0, nb = 0;
   };
+  struct Ends {  // the column's base and top
+    bool rigid_base = false;  // else compliant: the stress input through the base's dashpots
+    bool quiet_top = false;   // else free: waves reaching the top reflect (as from a free surface)
+  };
 
   FreeFieldCondition(std::vector<FaceSelection> sels, std::vector<Node> nodes, std::vector<Element> elements,
-                     std::vector<Spring> springs, std::vector<SideEdge> edges, bool rigid_base, bool hold_static);
+                     std::vector<Spring> springs, std::vector<SideEdge> edges, Ends ends, bool hold_static);
   std::string describe(const Model& m) const override;
   void setup(Model& m) override;
   void deactivated() override;
@@ -66,7 +71,8 @@ class FreeFieldCondition final : public BoundaryCondition {
   std::vector<Element> elements_;
   std::vector<Spring> springs_;
   std::vector<SideEdge> edges_;
-  bool rigid_base_, hold_static_;
+  bool rigid_base_, quiet_top_, hold_static_;
+  int top_element_ = 0;  // the element below the top node (its impedance for a quiet top)
   static constexpr int kBase = 0;  // the lowest node: nodes are sorted by height
   double time_ = 0.0;     // stage time of the column
   double stable_dt_ = 0.0;
