@@ -4,6 +4,7 @@
 // table (value +- standard error, unit, at-bound flag), the NRMSE as `rockdem compare` defines it
 // and the fit status. Without --case the stages and shear paths come from the record itself.
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <memory>
 
@@ -11,6 +12,7 @@
 #include "framework/app/calibration_inputs.hpp"
 #include "framework/app/command.hpp"
 #include "framework/app/result_files.hpp"
+#include "framework/lab/lab_case.hpp"
 #include "framework/core/error.hpp"
 #include "framework/plugin_api/joint_law.hpp"
 
@@ -64,6 +66,8 @@ const CommandRegistrar reg{Command{
         plan.input("--case", *case_file);
         plan.output("--json", *json);
         plan.output("--save-model", *save_model);
+        if (!case_file->empty() && std::filesystem::exists(*case_file))
+          plan.inputs("a drive file of --case", read_lab_test(*case_file).drive_files);
         plan.check(*overwrite);
         CalibrationOptions o = *opt;
         CalibrationInputs in{*law, *effects, *case_file, *fixes, *frees, *sets};

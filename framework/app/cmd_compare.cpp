@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <fstream>
 #include <memory>
 
@@ -92,6 +93,12 @@ const CommandRegistrar reg{Command{
                                "add --overwrite to replace it, or give another folder");
           for (const fs::path& f : mine) plan.output("--plot", f.string(), true);
         }
+        // The case is read first: the drive files it names are inputs too.
+        std::optional<LabTest> test;
+        if (!case_file->empty() && fs::exists(*case_file)) {
+          test.emplace(read_lab_test(*case_file));
+          plan.inputs("a drive file of --case", test->drive_files);
+        }
         plan.check(*overwrite);
         const auto t0 = std::chrono::steady_clock::now();
         const MeasurementFile d = read_measurement_csv(*data);
@@ -99,8 +106,7 @@ const CommandRegistrar reg{Command{
         std::string model_csv = *model;  // the model record on disk (the plot script reads files)
         double ms_run = 0.0;
         if (!case_file->empty()) {
-          const LabTest test = read_lab_test(*case_file);
-          ElementRun run = run_element_test(test);
+          ElementRun run = run_element_test(*test);
           ms_run = run.wall_ms;
           m = std::move(run.record);
           model_csv = !save_model->empty() ? *save_model

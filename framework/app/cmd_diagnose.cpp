@@ -17,6 +17,7 @@
 #include "framework/app/cli_contract.hpp"
 #include "framework/app/command.hpp"
 #include "framework/app/result_files.hpp"
+#include "framework/lab/lab_case.hpp"
 #include "framework/app/plot_scripts.hpp"
 #include "framework/core/error.hpp"
 #include "framework/io/output_folder.hpp"
@@ -59,10 +60,17 @@ const CommandRegistrar reg{Command{
         }
         if (*overwrite && report->empty() && json->empty())
           throw InputError("rockdem diagnose: --overwrite goes with --json or --report (it replaces their files)");
+        // The report folder's files are the report's own (diagnosis.json, the figures, manifest.json).
+        if (!json->empty() && !report->empty() &&
+            fs::weakly_canonical(fs::path(*json)).parent_path() == fs::weakly_canonical(fs::path(*report)))
+          throw InputError("--json " + *json + ": is inside --report " + *report + ", whose files the report writes (its own "
+                           "diagnosis.json among them); give --json another folder or leave it out");
         ResultFilePlan plan;
         plan.input("--data", *data);
         plan.input("--case", in->case_file);
         plan.output("--json", *json);
+        if (!in->case_file.empty() && fs::exists(in->case_file))
+          plan.inputs("a drive file of --case", read_lab_test(in->case_file).drive_files);
         plan.check(*overwrite);
         // The report folder is the diagnosis's own, as a run's --out is: checked before the fit
         // (which may take minutes), never mixed with an earlier report's figures, and marked with a

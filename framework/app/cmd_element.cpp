@@ -33,6 +33,7 @@ const CommandRegistrar reg{Command{
         plan.input("the case file", *file);
         plan.output(out->empty() ? "the default --out" : "--out", path);
         const LabTest c = read_lab_test(*file);
+        plan.inputs("a drive file of the case", c.drive_files);
         plan.check(*overwrite);  // before the element test runs
         const ElementRun run = [&] {
           try {

@@ -131,11 +131,6 @@ int run(const Options& o, const CLI::App& sub) {
         "ground-motion: --units is required (the unit of the record's values: g, m/s^2, or a quantity "
         "such as \"9.81 m/s^2\"); a wrong unit is the commonest silent error in a record");
   }
-  if (o.overwrite && o.out.empty()) throw InputError("ground-motion: --overwrite goes with --out (it replaces that file)");
-  ResultFilePlan plan;
-  plan.input("the record", o.record);
-  plan.output("--out", o.out);
-  plan.check(o.overwrite);
   RecordLayout layout;
   try {
     layout.unit = parse_acceleration_unit(o.units);
@@ -153,6 +148,11 @@ int run(const Options& o, const CLI::App& sub) {
     }
     layout.dt = quantity(o.dt, Dimension::time, "--dt");
   }
+  if (o.overwrite && o.out.empty()) throw InputError("ground-motion: --overwrite goes with --out (it replaces that file)");
+  ResultFilePlan plan;
+  plan.input("the record", o.record);
+  plan.output("--out", o.out);
+  plan.check(o.overwrite);
   const GroundMotion g = load_ground_motion(o.record, layout);
   const std::size_t ip = peak_index(g.acc);
   std::printf("record %s (%s): %zu samples, dt %.6g s, %.6g s to %.6g s; peak %.6g m/s^2 (%.5g x %s) at %.6g s\n",

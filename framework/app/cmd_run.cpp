@@ -292,6 +292,7 @@ const CommandRegistrar reg{Command{
             if (!comm.root()) return 0;
             ResultFilePlan plan;
             plan.input("the case file", *file);
+            plan.inputs("a drive file of the case", test.drive_files);
             plan.output("--write-case", *write_case);
             plan.check(*overwrite);
             std::ofstream os(*write_case);

@@ -56,6 +56,9 @@ void ResultFilePlan::output(const std::string& option, const std::string& path, 
 
 void ResultFilePlan::check(bool overwrite) const {
   std::error_code ec;
+  // A missing input is the first thing to hear of, before anything about the outputs.
+  for (const auto& [option, path] : inputs_)
+    if (!fs::exists(path, ec)) throw InputError(option + " " + path + ": no such file");
   for (std::size_t k = 0; k < outputs_.size(); ++k) {
     const auto& [option, path, makes_folder] = outputs_[k];
     const std::string what = option + " " + path;
@@ -67,7 +70,20 @@ void ResultFilePlan::check(bool overwrite) const {
       if (same_file(path, outputs_[j].path))
         throw InputError(what + ": " + outputs_[j].option + " writes the same file; give each result its own name");
     if (fs::is_directory(path, ec)) throw InputError(what + ": is a folder; give a file name");
-    const fs::path parent = fs::path(path).parent_path();
+    // A result is written beside its name and renamed onto it: what stands there must be a plain
+    // file (a link, a device or a pipe would be replaced by the result, not written through).
+    const fs::file_status st = fs::symlink_status(path, ec);
+    if (fs::exists(st) && !fs::is_regular_file(st))
+      throw InputError(what + ": exists and is not a plain file (" +
+                       (fs::is_symlink(st) ? "a symbolic link" : "a device, pipe or socket") +
+                       "); give the name of a new or plain file");
+    fs::path parent = fs::path(path).parent_path();
+    // The nearest part of the path that exists must be a folder (compare --plot DIR makes DIR).
+    if (makes_folder)
+      while (!parent.empty() && !fs::exists(parent, ec) && parent.has_parent_path() && parent.parent_path() != parent)
+        parent = parent.parent_path();
+    if (!parent.empty() && fs::exists(parent, ec) && !fs::is_directory(parent, ec))
+      throw InputError(what + ": '" + parent.string() + "' is a file, not a folder");
     if (!makes_folder && !parent.empty() && !fs::is_directory(parent, ec))
       throw InputError(what + ": the folder '" + parent.string() + "' does not exist (create it first)");
     if (fs::exists(path, ec) && !overwrite)

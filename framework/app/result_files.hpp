@@ -35,6 +35,10 @@ class ResultFilePlan {
  public:
   // A file the command reads (given with `option`, e.g. "--data"); "" is ignored.
   void input(const std::string& option, const std::string& path);
+  // Several, e.g. the drive files a laboratory-test case reads (LabTest::drive_files).
+  void inputs(const std::string& what, const std::vector<std::string>& paths) {
+    for (const auto& p : paths) input(what, p);
+  }
   // A file the command writes; "" is ignored. `makes_folder`: the command creates the file's
   // folder if need be (compare --plot DIR).
   void output(const std::string& option, const std::string& path, bool makes_folder = false);

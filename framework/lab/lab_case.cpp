@@ -383,6 +383,10 @@ void read_stage_tables(const toml::table& root, const std::string& file, const J
     const auto& t = *node.as_table();
     const std::string path = "stage[" + std::to_string(index) + "]";
     ElementStage st = read_stage(t, file, path, {"params"});
+    if (const auto* f = t.get_as<std::string>("file")) {
+      const fs::path rel(f->get());
+      c.drive_files.push_back((rel.is_absolute() ? rel : fs::path(file).parent_path() / rel).string());
+    }
     toml::table overrides;
     if (const auto* pn = t.get("params")) {
       const auto* pt = pn->as_table();

@@ -61,6 +61,9 @@ struct LabTest {
   std::unique_ptr<JointModel> model;
   std::vector<std::unique_ptr<JointModel>> stage_models;
   std::vector<ElementStage> stages;
+  // The drive files its stages read (path = "file"), as found from the case's folder: inputs a
+  // command must not write over.
+  std::vector<std::string> drive_files;
 };
 
 // Reads and checks a laboratory-test case file.

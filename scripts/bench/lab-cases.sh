@@ -15,7 +15,7 @@ total=0
 t0=$(date +%s%N)
 for t in 07 08 09 10 11 14 24; do
   for law in mohr_coulomb barton_bandis continuously_yielding; do
-    line=$("$bin" element "$root/cases/direct_shear/test${t}_${law}.toml" --out "$tmp/e.csv" | head -1)
+    line=$("$bin" element "$root/cases/direct_shear/test${t}_${law}.toml" --out "$tmp/e.csv" --overwrite | head -1)
     ms=$(sed -E 's/.* in ([0-9.]+) ms.*/\1/' <<<"$line")
     printf '  test%s %-22s %8s ms\n' "$t" "$law" "$ms"
     total=$(awk -v a="$total" -v b="$ms" 'BEGIN{print a+b}')

@@ -35,7 +35,7 @@ expect set_effect_typo 2 calibrate --data "$twin" --law mohr_coulomb --effects r
 expect fix_no_unit 2 calibrate --data "$twin" --law mohr_coulomb --fix friction=30 -- "friction" "has no unit"
 expect fix_range 2 calibrate --data "$twin" --law mohr_coulomb --fix friction="95 deg" -- "out of range"
 expect fix_syntax 2 calibrate --data "$twin" --law mohr_coulomb --fix friction -- "write NAME=VALUE"
-expect missing_file 2 calibrate --data "$tmp/none.csv" --law mohr_coulomb -- "none.csv" "cannot open"
+expect missing_file 2 calibrate --data "$tmp/none.csv" --law mohr_coulomb -- "--data $tmp/none.csv: no such file"
 { echo "$header"; echo "0,1,3,0,0,0"; } >"$tmp/one_row.csv"
 expect too_short 2 calibrate --data "$tmp/one_row.csv" --law mohr_coulomb -- "fewer than two rows"
 expect bad_set 2 calibrate --data "$twin" --law mohr_coulomb --set dilation=sometimes -- "must be one of"

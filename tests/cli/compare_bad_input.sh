@@ -55,7 +55,7 @@ expect_compare time_backwards 2 --data "$tmp/back.csv" --model "$tmp/data.csv" -
 expect_compare non_numeric 2 --data "$tmp/text.csv" --model "$tmp/data.csv" -- "text.csv:3:" "non-numeric value 'abc'"
 { echo "$header"; echo "0,1,3,0,0,0"; echo "1,1,3,0.5,0"; } >"$tmp/short.csv"
 expect_compare short_row 2 --data "$tmp/short.csv" --model "$tmp/data.csv" -- "short.csv:3:" "row has 5 fields, the header has 6"
-expect_compare missing_file 2 --data "$tmp/none.csv" --model "$tmp/data.csv" -- "none.csv" "cannot open measurement file"
+expect_compare missing_file 2 --data "$tmp/none.csv" --model "$tmp/data.csv" -- "--data $tmp/none.csv: no such file"
 echo "$header" >"$tmp/empty.csv"
 expect_compare no_rows 2 --data "$tmp/empty.csv" --model "$tmp/data.csv" -- "empty.csv vs" "no data rows"
 
@@ -114,7 +114,7 @@ else
   echo "FAIL case_form: rockdem element $case_file failed"
   fail=1
 fi
-expect_compare case_missing 2 --data "$tmp/data.csv" --case "$tmp/none.toml" -- "none.toml: case file not found"
+expect_compare case_missing 2 --data "$tmp/data.csv" --case "$tmp/none.toml" -- "--case $tmp/none.toml: no such file"
 expect_compare no_model 2 --data "$tmp/data.csv" -- "give --model FILE.csv or --case CASE.toml"
 expect_compare both_models 2 --data "$tmp/data.csv" --model "$tmp/data.csv" --case "$case_file" -- "not both"
 expect_compare no_data 2 --model "$tmp/data.csv" -- "--data MEASURED.csv is required"

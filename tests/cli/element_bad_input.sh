@@ -8,15 +8,15 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 fail=0
 
-# check NAME EXPECTED-SUBSTRING...: runs $tmp/NAME.toml, wants exit != 0 and every substring.
+# check NAME EXPECTED-SUBSTRING...: runs $tmp/NAME.toml, wants exit 2 (bad input) and every substring.
 check() {
   local name=$1
   shift
   local out code
   out=$("$bin" element "$tmp/$name.toml" --out "$tmp/$name.csv" 2>&1)
   code=$?
-  if [ "$code" -eq 0 ]; then
-    echo "FAIL $name: exit 0 for a bad case"
+  if [ "$code" -ne 2 ]; then
+    echo "FAIL $name: exit $code for a bad case, wanted 2: $out"
     fail=1
     return
   fi
@@ -188,7 +188,7 @@ check bb_closure "bb_closure.toml:3 [joint.params]" "ucs (sigma_c) is not given"
 
 # Missing case file.
 out=$("$bin" element "$tmp/does_not_exist.toml" 2>&1)
-if [ $? -eq 0 ] || ! grep -qF "does_not_exist.toml: case file not found" <<<"$out"; then
+if [ $? -ne 2 ] || ! grep -qF "does_not_exist.toml: case file not found" <<<"$out"; then
   echo "FAIL missing file: $out"
   fail=1
 else
@@ -197,7 +197,7 @@ fi
 
 # describe with an unknown name lists the valid ones and exits non-zero.
 out=$("$bin" describe mohr_colomb 2>&1)
-if [ $? -eq 0 ] || ! grep -qF "unknown name 'mohr_colomb'" <<<"$out" || ! grep -qF "mohr_coulomb" <<<"$out"; then
+if [ $? -ne 2 ] || ! grep -qF "unknown name 'mohr_colomb'" <<<"$out" || ! grep -qF "mohr_coulomb" <<<"$out"; then
   echo "FAIL describe unknown: $out"
   fail=1
 else

@@ -2,8 +2,10 @@
 # Nothing lost, nothing mixed (docs/reliability.md): a non-empty --out is refused unless
 # --overwrite, which empties only a folder rockdem wrote; every run folder has a manifest.json
 # (also as root attributes of history.h5); SIGINT/SIGTERM stop a run with exit 130/143, the state
-# and the histories so far written, and a line saying how to go on; a full disk or an unwritable
-# output is exit 1 naming the path, never a crash.
+# and the histories so far written, and a line saying how to go on; a full disk is exit 1 naming
+# the path, never a crash; a result file (--out FILE, --json, --save-model, --write-case,
+# --write-blocks) that exists is refused before the work unless --overwrite, and one that is an
+# input (also a drive file a case names), a link, a device or in a missing folder always (exit 2).
 # Usage: bash output_safety.sh <rockdem-binary> <source-dir>
 set -u
 bin=$1
@@ -103,7 +105,27 @@ expect element_exists 2 element "$lab" --out "$tmp/res/e.csv" -- "--out $tmp/res
 keep element_exists "$tmp/res/e.csv"
 expect element_overwrite 0 element "$lab" --out "$tmp/res/e.csv" --quiet --overwrite --
 grep -q "^time_s," "$tmp/res/e.csv" || { echo "FAIL element --overwrite did not write the record"; fail=1; }
-expect element_onto_case 2 element "$lab" --out "$lab" --overwrite -- "is the case file, an input" "even with --overwrite"
+cp "$lab" "$tmp/res/lab.toml"
+expect element_onto_case 2 element "$tmp/res/lab.toml" --out "$tmp/res/lab.toml" --overwrite -- "is the case file, an input" "even with --overwrite"
+cmp -s "$lab" "$tmp/res/lab.toml" || { echo "FAIL element_onto_case: the case file changed"; fail=1; }
+# A drive file the case reads (path = "file") is an input too.
+mkdir -p "$tmp/res/t24/data"
+cp "$src/cases/direct_shear/test24_barton_bandis.toml" "$tmp/res/t24/"
+cp "$src/cases/direct_shear/data/test24_drive.csv" "$tmp/res/t24/data/"
+expect element_onto_drive 2 element "$tmp/res/t24/test24_barton_bandis.toml" --out "$tmp/res/t24/data/test24_drive.csv" --overwrite -- \
+  "is a drive file of the case, an input"
+cmp -s "$src/cases/direct_shear/data/test24_drive.csv" "$tmp/res/t24/data/test24_drive.csv" || { echo "FAIL element_onto_drive: the drive changed"; fail=1; }
+expect write_case_onto_drive 2 run "$tmp/res/t24/test24_barton_bandis.toml" --write-case "$tmp/res/t24/data/test24_drive.csv" --overwrite -- \
+  "is a drive file of the case, an input"
+# Not a plain file: a link (dangling or not) or a device is never written over.
+ln -s "$tmp/res/nowhere.csv" "$tmp/res/dangling.csv"
+expect element_onto_link 2 element "$lab" --out "$tmp/res/dangling.csv" --overwrite -- "not a plain file (a symbolic link)"
+[ -L "$tmp/res/dangling.csv" ] || { echo "FAIL element_onto_link: the link was replaced"; fail=1; }
+expect element_onto_device 2 element "$lab" --out /dev/null --overwrite -- "not a plain file (a device, pipe or socket)"
+[ -c /dev/null ] || { echo "FAIL /dev/null is no longer a device"; fail=1; }
+echo "a file" > "$tmp/res/afile"
+expect element_parent_is_file 2 element "$lab" --out "$tmp/res/afile/e.csv" -- "'$tmp/res/afile' is a file, not a folder"
+expect write_blocks_into_file 2 run "$src/cases/rock_mass/drift.toml" --write-blocks "$tmp/res/afile" -- "'$tmp/res/afile' is a file, not a folder"
 expect element_folder 2 element "$lab" --out "$tmp/res" -- "is a folder"
 expect element_no_folder 2 element "$lab" --out "$tmp/no/such/folder/e.csv" -- "the folder '$tmp/no/such/folder' does not exist"
 echo "keep me" > "$tmp/res/c.json"
@@ -118,14 +140,22 @@ cmp -s "$twin" "$tmp/res/measured.csv" || { echo "FAIL compare_onto_data: the me
 expect compare_two_outputs 2 compare --data "$twin" --case "$lab" --save-model "$tmp/res/m.csv" --json "$tmp/res/m.csv" -- \
   "--json writes the same file"
 echo "keep me" > "$tmp/res/fit.json"
-t0=$(date +%s)
+# The refusals come before the inputs are read (and so before any fit): a broken measured record
+# is not even looked at.
+printf 'not a measurement record\n' > "$tmp/res/broken.csv"
 expect calibrate_json_exists 2 calibrate --data "$twin" --law mohr_coulomb --json "$tmp/res/fit.json" -- "--json $tmp/res/fit.json" "the file exists"
 keep calibrate_json_exists "$tmp/res/fit.json"
 expect calibrate_model_onto_data 2 calibrate --data "$tmp/res/measured.csv" --law mohr_coulomb --save-model "$tmp/res/measured.csv" --overwrite -- \
   "this is --data, an input"
 expect diagnose_json_exists 2 diagnose --data "$twin" --law mohr_coulomb --json "$tmp/res/fit.json" -- "the file exists"
 keep diagnose_json_exists "$tmp/res/fit.json"
-[ $(( $(date +%s) - t0 )) -le 20 ] || { echo "FAIL refusals came after the fits, not before"; fail=1; }
+expect calibrate_before_reading 2 calibrate --data "$tmp/res/broken.csv" --law mohr_coulomb --json "$tmp/res/fit.json" -- "--json $tmp/res/fit.json: the file exists"
+expect diagnose_before_reading 2 diagnose --data "$tmp/res/broken.csv" --law mohr_coulomb --json "$tmp/res/fit.json" -- "--json $tmp/res/fit.json: the file exists"
+expect compare_before_reading 2 compare --data "$tmp/res/broken.csv" --model "$tmp/res/e.csv" --json "$tmp/res/c.json" -- "--json $tmp/res/c.json: the file exists"
+expect diagnose_missing_data 2 diagnose --data "$tmp/res/none.csv" --law mohr_coulomb --json "$tmp/res/fit.json" -- "--data $tmp/res/none.csv: no such file"
+expect diagnose_json_in_report 2 diagnose --data "$twin" --law mohr_coulomb --json "$tmp/res/rep/manifest.json" --report "$tmp/res/rep" -- \
+  "is inside --report $tmp/res/rep"
+[ -e "$tmp/res/rep" ] && { echo "FAIL diagnose_json_in_report: the report folder was made"; fail=1; }
 echo "keep me" > "$tmp/res/drive.csv"
 expect ground_motion_exists 2 ground-motion "$src/cases/data/ground_motions/mexico1985_sct_acc_g.txt" --column 3 --units g \
   --peak "1 mm" --out "$tmp/res/drive.csv" -- "--out $tmp/res/drive.csv" "the file exists"
