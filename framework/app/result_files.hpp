@@ -44,7 +44,6 @@ class ResultFilePlan {
   void output(const std::string& option, const std::string& path, bool makes_folder = false);
   // Throws InputError naming the option and the file for the first that breaks the rules above.
   void check(bool overwrite) const;
-  bool has_outputs() const { return !outputs_.empty(); }
 
  private:
   struct Output {

@@ -203,6 +203,14 @@ ShearPath read_shear_drive(const std::string& path, int stage, const std::string
   return p;
 }
 
+namespace {
+// A stage's `file = "..."`: relative to the case file's folder unless absolute.
+std::string drive_path(const std::string& case_file, const std::string& written) {
+  const fs::path rel(written);
+  return (rel.is_absolute() ? rel : fs::path(case_file).parent_path() / rel).string();
+}
+}  // namespace
+
 ElementStage read_stage(const toml::table& t, const std::string& file, const std::string& path,
                         const std::vector<std::string>& extra_keys) {
   const std::string tw = table_where(t, file, path);
@@ -253,9 +261,7 @@ ElementStage read_stage(const toml::table& t, const std::string& file, const std
                               "measurement record");
       }
       reject("amplitude", "amplitude belongs to cycles and sinusoid paths; a file path takes its amplitude from the file");
-      const fs::path rel(fnode->as_string()->get());
-      const fs::path full = rel.is_absolute() ? rel : fs::path(file).parent_path() / rel;
-      st.path = read_shear_drive(full.string(), s.file_stage, where_of(*fnode, file, path + ".file"));
+      st.path = read_shear_drive(drive_path(file, fnode->as_string()->get()), s.file_stage, where_of(*fnode, file, path + ".file"));
     }
   }
   return st;
@@ -383,10 +389,7 @@ void read_stage_tables(const toml::table& root, const std::string& file, const J
     const auto& t = *node.as_table();
     const std::string path = "stage[" + std::to_string(index) + "]";
     ElementStage st = read_stage(t, file, path, {"params"});
-    if (const auto* f = t.get_as<std::string>("file")) {
-      const fs::path rel(f->get());
-      c.drive_files.push_back((rel.is_absolute() ? rel : fs::path(file).parent_path() / rel).string());
-    }
+    if (const auto* f = t.get_as<std::string>("file")) c.drive_files.push_back(drive_path(file, f->get()));
     toml::table overrides;
     if (const auto* pn = t.get("params")) {
       const auto* pt = pn->as_table();
