@@ -12,7 +12,7 @@ displacement, the measurement, and each ladder step's model aligned on it) and w
                        last ladder step, per variable, with units (box plots);
   error_ladder.png     combined / per-variable NRMSE at each step, and the change in BIC each
                        added effect made;
-  covariates.png       covariate scores (adjusted eta^2) of the baseline residual.
+  covariates.png       covariate scores (adjusted eta^2) of the baseline residual, each stage's mean removed.
 """
 import argparse
 import csv
@@ -159,7 +159,7 @@ def main():
     ax.set_yticks(range(len(cov)))
     ax.set_yticklabels(lab, fontsize=8)
     ax.invert_yaxis()
-    ax.set_xlabel("share of the baseline residual explained (adjusted eta^2)")
+    ax.set_xlabel("share of the baseline residual explained within stages (adjusted eta^2)")
     ax.grid(alpha=0.3, axis="x")
     fig.tight_layout()
     fig.savefig(os.path.join(a.out, "covariates.png"), dpi=110)

@@ -195,7 +195,9 @@ std::vector<double> runnable_start(const Evaluator& ev, std::vector<Slot>& slots
     if (ok) res.warnings.push_back(std::string("the data estimates could not be run; the fit started from the ") +
                                    (attempt == 0 ? "registry defaults" : "lower bounds") + " of the free parameters");
   }
-  if (!ok) throw InputError("calibrate: the model at the starting values cannot be run or compared with the data: " + why);
+  if (!ok)
+    throw InputError("calibrate: the model at the starting values (" + ev.describe(x.data()) +
+                     ") cannot be run or compared with the data: " + why);
   for (std::size_t j = 0; j < kk; ++j) slots[free[j]].start = ev.to_si(j, x[j]);
   return x;
 }
@@ -269,8 +271,9 @@ std::vector<double> evaluate_optimum(const Evaluator& ev, const std::vector<doub
   const bool coarse_ok = ev.residuals(x.data(), coarse, r_coarse, &c_coarse, &res.model, &why_coarse);
   const bool fine_ok = ev.residuals(x.data(), fine, r_fine, &res.comparison, &res.model, &why_fine);
   if (!coarse_ok && !fine_ok) {
-    throw std::runtime_error("calibrate: the fitted model could not be evaluated at the fitting step (" + why_coarse +
-                             ") nor at the fine step (" + why_fine + ")");
+    throw std::runtime_error("calibrate: the fitted model (" + ev.describe(x.data()) +
+                             ") could not be evaluated at the fitting step (" + why_coarse + ") nor at the fine step (" +
+                             why_fine + ")");
   }
   if (!coarse_ok) {
     // Seen on test 14 with Continuously-Yielding: at the coarse step the model's record no longer

@@ -120,6 +120,15 @@ MeasurementFile Evaluator::run(const JointModel& model, double step) const {
   return driver.run(stages_);
 }
 
+std::string Evaluator::describe(const double* x) const {
+  std::string out;
+  for (std::size_t j = 0; j < free_.size(); ++j) {
+    const Slot& s = slots_[free_[j]];
+    out += (out.empty() ? "" : ", ") + s.name + " = " + format_quantity(to_si(j, x[j]), s.info.dim);
+  }
+  return out.empty() ? "no free parameters" : out;
+}
+
 bool Evaluator::residuals(const double* x, double step, std::vector<double>& r, Comparison* out,
                           MeasurementFile* record, std::string* why) const {
   try {

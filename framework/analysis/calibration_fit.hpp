@@ -83,6 +83,10 @@ class Evaluator {
     return v;
   }
 
+  // "friction = 36.2 deg, ks = 12 GPa/m, ..." for the free parameters at x: a failure names the
+  // point it failed at, so that a user can see which corner of the bounds the model cannot run in.
+  std::string describe(const double* x) const;
+
   std::unique_ptr<JointModel> build(const std::vector<double>& v) const;
   MeasurementFile run(const JointModel& model, double step) const;
   // Range-normalised residuals (model - measured) of every compared row; false if the model

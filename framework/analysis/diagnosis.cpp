@@ -105,6 +105,16 @@ nlohmann::json params_json(const CalibrationResult& r) {
   return j;
 }
 
+// A compare "worst" line cut after its first clause ("stage 3, cycle 1, reverse shearing
+// (quadrant 4): normal displacement over-predicted by 0.505 mm"), for one-line summaries.
+std::string short_worst(const CalibrationResult& r) {
+  if (r.comparison.worst.empty()) return {};
+  const std::string& w = r.comparison.worst.front();
+  const auto colon = w.find(": ");
+  const auto cut = w.find(" (", colon == std::string::npos ? 0 : colon);
+  return w.substr(0, cut);
+}
+
 }  // namespace
 
 std::vector<std::string> non_physical_effects() {
@@ -114,11 +124,68 @@ std::vector<std::string> non_physical_effects() {
   return out;
 }
 
+std::vector<Hold> find_holds(const MeasurementFile& data, const Segmentation& seg) {
+  std::vector<Hold> out;
+  const auto& rows = data.rows;
+  for (const auto& st : seg.stages) {
+    if (st.end < st.begin + 3) continue;
+    std::vector<double> rates, steps;
+    for (std::size_t i = st.begin + 1; i < st.end; ++i) {
+      const double dt = rows[i].time_s - rows[i - 1].time_s;
+      if (!(dt > 0.0)) continue;
+      rates.push_back(std::abs(rows[i].shear_disp_mm - rows[i - 1].shear_disp_mm) / dt);
+      steps.push_back(dt);
+    }
+    const double ref = percentile(rates, 0.9);
+    if (!(ref > 0.0)) continue;  // the stage never shears: nothing is held between shearing
+    // A hold lasts at least ten of the stage's typical sampling intervals: a sinusoid slows to
+    // rest at its turning points for a few samples only, a held joint stays for many (or for one
+    // long interval, as the element driver writes a pause).
+    const double min_duration = 10.0 * percentile(steps, 0.5);
+    bool moved = false;  // the joint has sheared in this stage: a rest before that is no hold
+    std::optional<Hold> cur;
+    for (std::size_t i = st.begin + 1; i < st.end; ++i) {
+      const double dt = rows[i].time_s - rows[i - 1].time_s;
+      if (!(dt > 0.0)) continue;
+      const bool rest = std::abs(rows[i].shear_disp_mm - rows[i - 1].shear_disp_mm) <= 0.01 * ref * dt;
+      if (rest) {
+        if (!cur && moved) cur = Hold{st.stage, i - 1, i, 0.0, false};
+        if (cur) cur->end = i;
+        continue;
+      }
+      moved = true;
+      if (cur) {
+        cur->duration_s = rows[cur->end].time_s - rows[cur->begin].time_s;
+        cur->followed_by_motion = true;
+        if (cur->duration_s >= min_duration) out.push_back(*cur);
+        cur.reset();
+      }
+    }
+    if (cur) {
+      cur->duration_s = rows[cur->end].time_s - rows[cur->begin].time_s;
+      if (cur->duration_s >= min_duration) out.push_back(*cur);
+    }
+  }
+  return out;
+}
+
 Covariates row_covariates(const MeasurementFile& data, const Segmentation& seg) {
   const std::size_t n = data.rows.size();
   Covariates c;
-  c.names = {"offset", "toward_origin", "cumulative_slip", "cycle", "velocity", "normal_stress", "fresh_surface"};
+  c.names = {"offset",   "toward_origin", "cumulative_slip", "cycle", "velocity", "normal_stress", "fresh_surface",
+             "time_since_motion"};
   c.values.assign(c.names.size(), std::vector<double>(n, 0.0));
+  // Time since motion: on a held joint the time it has been at rest; on the slide after a hold
+  // that hold's length (until the next hold or the stage's end): healing scales with it.
+  const std::vector<Hold> holds = find_holds(data, seg);
+  for (std::size_t k = 0; k < holds.size(); ++k) {
+    const Hold& h = holds[k];
+    const StageInfo* st = seg.find_stage(h.stage);
+    std::size_t last = st ? st->end : h.end + 1;  // the slide after it runs to the next hold or the stage's end
+    if (k + 1 < holds.size() && holds[k + 1].stage == h.stage) last = holds[k + 1].begin + 1;
+    for (std::size_t i = h.begin + 1; i <= h.end; ++i) c.values[7][i] = data.rows[i].time_s - data.rows[h.begin].time_s;
+    for (std::size_t i = h.end + 1; i < last; ++i) c.values[7][i] = h.duration_s;
+  }
   double slip = 0.0, reach_pos = 0.0, reach_neg = 0.0;
   // Fresh surface: the offset goes beyond the farthest point reached before on that side (by
   // more than noise: 1 % of the record's largest offset), over the whole record, since the
@@ -223,6 +290,11 @@ RecordFeatures features_of(const MeasurementFile& data, const Segmentation& seg,
     if (v > 0.0) moving.push_back(v);
   f.rate_low = percentile(moving, 0.1);
   f.rate_high = percentile(moving, 0.9);
+  for (const Hold& h : find_holds(data, seg)) {
+    if (!h.followed_by_motion || h.duration_s < 1.0) continue;
+    ++f.holds;
+    f.longest_hold_s = std::max(f.longest_hold_s, h.duration_s);
+  }
   for (const auto& s : seg.stages) {
     RecordFeatures::Stage st;
     st.normal_stress_MPa = s.normal_stress_MPa;
@@ -238,6 +310,114 @@ RecordFeatures features_of(const MeasurementFile& data, const Segmentation& seg,
 }
 
 }  // namespace
+
+StageOffsets stage_offsets(const MeasurementFile& data, const Segmentation& seg,
+                           const std::array<std::vector<double>, 2>& residual) {
+  StageOffsets out;
+  std::array<double, 2> total{}, count{};
+  for (std::size_t v = 0; v < 2; ++v)
+    for (double r : residual[v]) total[v] += r, count[v] += 1.0;
+  std::array<double, 2> sst{}, ssb{};
+  for (const auto& st : seg.stages) {
+    StageOffset o;
+    o.stage = st.stage;
+    o.rows = st.end - st.begin;
+    o.normal_stress_MPa = st.normal_stress_MPa;
+    std::vector<double> rates;
+    for (std::size_t i = st.begin + 1; i < st.end; ++i) {
+      const double dt = data.rows[i].time_s - data.rows[i - 1].time_s;
+      const double du = std::abs(data.rows[i].shear_disp_mm - data.rows[i - 1].shear_disp_mm);
+      if (dt > 0.0 && du > 0.0) rates.push_back(du / dt);
+    }
+    o.rate_mm_s = percentile(rates, 0.5);
+    if (o.rows == 0) continue;
+    for (std::size_t v = 0; v < 2; ++v) {
+      double sum = 0.0;
+      for (std::size_t i = st.begin; i < st.end; ++i) sum += residual[v][i];
+      o.mean[v] = sum / static_cast<double>(o.rows);
+      const double all = count[v] > 0.0 ? total[v] / count[v] : 0.0;
+      ssb[v] += static_cast<double>(o.rows) * (o.mean[v] - all) * (o.mean[v] - all);
+      for (std::size_t i = st.begin; i < st.end; ++i) sst[v] += (residual[v][i] - all) * (residual[v][i] - all);
+    }
+    out.stages.push_back(o);
+  }
+  for (std::size_t v = 0; v < 2; ++v) out.share[v] = sst[v] > 0.0 ? ssb[v] / sst[v] : 0.0;
+  return out;
+}
+
+std::array<std::vector<double>, 2> within_stages(const Segmentation& seg, std::array<std::vector<double>, 2> residual) {
+  for (const auto& st : seg.stages) {
+    if (st.end <= st.begin) continue;
+    for (auto& r : residual) {
+      double sum = 0.0;
+      for (std::size_t i = st.begin; i < st.end; ++i) sum += r[i];
+      const double mean = sum / static_cast<double>(st.end - st.begin);
+      for (std::size_t i = st.begin; i < st.end; ++i) r[i] -= mean;
+    }
+  }
+  return residual;
+}
+
+namespace {
+
+// base's options carried over to `law`: stages, element and fit settings, and the values, fixes
+// and starts of the parameters `law` has too; `dilation` set to the mode tried.
+CalibrationOptions options_for_law(const CalibrationOptions& base, const std::string& law, const std::string& dilation) {
+  const auto& entry = JointLawRegistry::instance().get(law, "joint law", "diagnose");
+  const auto has = [&](const std::string& name) {
+    return std::any_of(entry.params.begin(), entry.params.end(), [&](const ParamInfo& p) { return p.name == name; });
+  };
+  CalibrationOptions o = base;
+  o.law = law;
+  o.effects.clear();
+  o.effect_values.clear();
+  o.only_free.clear();
+  std::erase_if(o.law_values, [&](const auto& kv) { return !has(kv.first); });
+  std::erase_if(o.fix, [&](const auto& kv) { return !has(kv.first); });
+  std::erase_if(o.fix_text, [&](const auto& kv) { return !has(kv.first); });
+  std::erase_if(o.start, [&](const auto& kv) { return !has(kv.first); });
+  std::erase_if(o.free, [&](const std::string& n) { return !has(n); });
+  if (!dilation.empty()) o.law_values["dilation"] = RawValue{dilation, "the base-law check"};
+  return o;
+}
+
+std::vector<std::string> dilation_modes(const std::string& law) {
+  for (const auto& p : JointLawRegistry::instance().get(law, "joint law", "diagnose").params)
+    if (p.name == "dilation" && p.kind == "choice") return p.choices;
+  return {""};
+}
+
+}  // namespace
+
+std::vector<BaseLawFit> fit_base_laws(const MeasurementFile& data, const Segmentation& seg, const CalibrationOptions& base,
+                                      int threads) {
+  std::vector<std::string> laws{"mohr_coulomb", "barton_bandis", "continuously_yielding"};
+  if (std::find(laws.begin(), laws.end(), base.law) == laws.end()) laws.push_back(base.law);
+  std::vector<BaseLawFit> fits;
+  for (const auto& law : laws) {
+    if (!JointLawRegistry::instance().find(law)) continue;
+    for (const auto& mode : dilation_modes(law)) fits.push_back({law, mode, false, "", {}});
+  }
+  const int outer = std::max(1, std::min<int>(threads, static_cast<int>(fits.size())));
+  for_each_parallel(fits.size(), outer, [&](std::size_t i) {
+    BaseLawFit& f = fits[i];
+    try {
+      CalibrationOptions o = options_for_law(base, f.law, f.dilation);
+      o.threads = 1;
+      o.starts = 2;
+      o.polish = false;  // the NRMSE and BIC are still those at the fine step
+      f.fit = calibrate(data, seg, o);
+    } catch (const std::exception& e) {
+      f.failed = true;
+      f.reason = e.what();
+    }
+  });
+  std::stable_sort(fits.begin(), fits.end(), [](const BaseLawFit& a, const BaseLawFit& b) {
+    if (a.failed != b.failed) return !a.failed;
+    return !a.failed && a.fit.bic < b.fit.bic;
+  });
+  return fits;
+}
 
 RecordFeatures record_features(const MeasurementFile& data, const Segmentation& seg) {
   return features_of(data, seg, row_covariates(data, seg));
@@ -260,35 +440,90 @@ namespace {
 // base law's free parameters, so they are members of one object rather than arguments.
 class DiagnosisRun {
  public:
-  DiagnosisRun(const MeasurementFile& data, const Segmentation& seg, const DiagnosisOptions& options)
-      : data_(data), seg_(seg), options_(options) {}
+  DiagnosisRun(const MeasurementFile& data, const Segmentation& seg, DiagnosisOptions options)
+      : data_(data), seg_(seg), options_(std::move(options)) {}
 
   Diagnosis run() {
     const auto t0 = std::chrono::steady_clock::now();
-    d_.law = options_.base.law;
     check_record_length();
+    check_base_laws();
+    d_.law = options_.base.law;
     fit_baseline();
-    // Covariates of the baseline's residual.
+    compare_with_base_laws();
+    // Covariates of the baseline's residual within stages; the stage means on their own.
     const Covariates covariates = row_covariates(data_, seg_);
-    d_.covariates = score_covariates(covariates, signed_residuals(data_, seg_, d_.baseline.comparison), options_.bins);
+    const auto residual = signed_residuals(data_, seg_, d_.baseline.comparison);
+    d_.stage_offsets = stage_offsets(data_, seg_, residual);
+    d_.covariates = score_covariates(covariates, within_stages(seg_, residual), options_.bins);
     try_each_effect(features_of(data_, seg_, covariates));
     mark_insensitive_effects();
     rank_effects();
     climb_ladder();
+    doubt_a_toss_up();
+    d_.confident = d_.doubts.empty();
     d_.wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return std::move(d_);
   }
 
  private:
   void check_record_length() {
-    std::size_t moving_segments = 0;
-    for (const auto& s : seg_.segments) moving_segments += s.motion != 0 ? 1 : 0;
-    short_record_ = data_.rows.size() < 50 || moving_segments < 2;
+    // Shearing episodes: strokes between reversals, and the slides after holds (a slide-hold-slide
+    // test in one direction is one stroke but several episodes).
+    std::size_t episodes = 0;
+    for (const auto& s : seg_.segments) episodes += s.motion != 0 ? 1 : 0;
+    for (const Hold& h : find_holds(data_, seg_)) episodes += h.followed_by_motion ? 1 : 0;
+    short_record_ = data_.rows.size() < 50 || episodes < 2;
     if (short_record_) {
-      d_.warnings.push_back("the record is short (" + std::to_string(data_.rows.size()) + " rows, " +
-                            std::to_string(moving_segments) + " shear stroke(s)): effects cannot be told apart; no confident answer");
-      d_.confident = false;
+      const std::string what = "the record is short (" + std::to_string(data_.rows.size()) + " rows, " +
+                               std::to_string(episodes) + " shear stroke(s) or slide(s) between holds)";
+      d_.warnings.push_back(what + ": effects cannot be told apart; no confident answer");
+      d_.doubts.push_back(what);
     }
+  }
+
+  // The standard base laws with each dilation mode, fitted before any effect; with --law best the
+  // best of them becomes the base law.
+  void check_base_laws() {
+    if (!options_.check_base_laws && !options_.use_best_base_law) return;
+    d_.base_laws = fit_base_laws(data_, seg_, options_.base, options_.threads);
+    if (!options_.use_best_base_law) return;
+    if (d_.base_laws.empty() || d_.base_laws.front().failed)
+      throw InputError("diagnose --law best: no standard base law could be fitted to the record" +
+                       (d_.base_laws.empty() ? std::string() : ": " + d_.base_laws.front().reason));
+    const BaseLawFit& best = d_.base_laws.front();
+    options_.base = options_for_law(options_.base, best.law, best.dilation);
+    d_.law_chosen = true;
+  }
+
+  // A named base law that another shape fits much better (a combined NRMSE lower by a fifth or
+  // more, and a lower BIC) is a warning. Another law doing so puts the answer in doubt: the effects
+  // would be credited with what that law's shape does anyway (Mohr-Coulomb's constant dilation
+  // against a record whose dilation decays draws dilation_recovery in). Another dilation mode of
+  // the same law is a finding about reverse shearing, the physics the effects carry too (a
+  // reversible dilation and dilation_recovery both give dilation back): a warning, no doubt.
+  void compare_with_base_laws() {
+    if (d_.base_laws.empty() || d_.law_chosen) return;
+    const BaseLawFit& best = d_.base_laws.front();
+    if (best.failed) return;
+    const auto& b = d_.baseline;
+    const std::string mode = b.settings.contains("dilation") ? b.settings["dilation"].get<std::string>() : "";
+    if (best.law == d_.law && best.dilation == mode) return;
+    if (!(best.fit.nrmse[2] <= 0.8 * b.nrmse[2] && best.fit.bic < b.bic)) return;
+    const std::string named = d_.law + (mode.empty() ? "" : " with dilation = " + mode);
+    const std::string better = best.law + (best.dilation.empty() ? "" : " with dilation = " + best.dilation);
+    char buf[800];
+    std::snprintf(buf, sizeof buf, "base law: %s fits this record much better than %s (combined NRMSE %.4f against %.4f, BIC %+.1f)",
+                  better.c_str(), named.c_str(), best.fit.nrmse[2], b.nrmse[2], best.fit.bic - b.bic);
+    std::string w = buf;
+    if (best.law == d_.law) {
+      w += ": the record's dilation on reverse shearing is " + best.dilation +
+           "'s; an effect that changes the dilation on reverse shearing (dilation_recovery) stands for the same finding";
+    } else {
+      w += ": the effects below are judged on " + named + " as asked and may be credited with what " + best.law +
+           "'s shape does; `--law best` judges them on the better shape";
+      d_.doubts.push_back("another base law fits much better (" + better + ")");
+    }
+    d_.warnings.push_back(w);
   }
 
   void fit_baseline() {
@@ -333,6 +568,7 @@ class DiagnosisRun {
       EffectTrial& t = d_.ranking[i];
       t.effect = effects[i];
       t.reason = unjudgeable_reason(t.effect, features);
+      t.revealable = t.reason.empty();
       t.judged = t.reason.empty() && !short_record_;
       if (short_record_ && t.reason.empty()) t.reason = "the record is too short";
       if (!t.judged && !options_.fit_unjudged) return;
@@ -407,18 +643,40 @@ class DiagnosisRun {
       if (a.fitted != b.fitted) return a.fitted;
       return a.fitted && a.fit.bic < b.fit.bic;
     });
-    std::vector<std::string> unjudged;
     for (const auto& t : d_.ranking) {
       if (t.failed) {
         d_.warnings.push_back("effect " + t.effect + ": " + t.reason);
+        // An effect the record could reveal but that could not be fitted may be the missing one.
+        if (t.revealable && !short_record_) d_.doubts.push_back("effect " + t.effect + " could not be fitted: it may be the missing one");
       } else if (!t.judged) {
-        unjudged.push_back(t.effect);
         d_.warnings.push_back("effect " + t.effect + " cannot be judged from this record: " + t.reason);
       } else {
         for (const auto& w : t.fit.warnings) d_.warnings.push_back("effect " + t.effect + ": " + w);
       }
     }
-    if (!unjudged.empty()) d_.confident = false;
+  }
+
+  // The first rung is a toss-up when another effect, alone, cuts the baseline's error nearly as
+  // much (90 %) and the ladder did not take it as well: the two explain the same misfit, and the
+  // record does not say which is missing.
+  void doubt_a_toss_up() {
+    if (d_.ladder.size() < 2) return;
+    const std::string& first = d_.ladder[1].effects.front();
+    const auto& final_chain = d_.ladder.back().effects;
+    const double base = d_.baseline.nrmse[2], cut = base - d_.ladder[1].fit.nrmse[2];
+    if (!(cut > 0.0)) return;
+    for (const auto& t : d_.ranking) {
+      if (t.effect == first || !t.judged || t.failed || !t.fitted || !(t.delta_bic < 0.0)) continue;
+      if (std::find(final_chain.begin(), final_chain.end(), t.effect) != final_chain.end()) continue;
+      const double other = base - t.fit.nrmse[2];
+      if (other >= 0.9 * cut) {
+        char buf[300];
+        std::snprintf(buf, sizeof buf,
+                      "%s and %s explain the misfit about equally (each alone: combined NRMSE %.4f -> %.4f and %.4f)",
+                      first.c_str(), t.effect.c_str(), base, d_.ladder[1].fit.nrmse[2], t.fit.nrmse[2]);
+        d_.doubts.push_back(buf);
+      }
+    }
   }
 
   // The ladder: the best single effect, then the best addition to the current chain, while that
@@ -493,7 +751,7 @@ class DiagnosisRun {
 
   const MeasurementFile& data_;
   const Segmentation& seg_;
-  const DiagnosisOptions& options_;
+  DiagnosisOptions options_;  // a copy: --law best replaces the base law after the check
   Diagnosis d_;
   bool short_record_ = false;
   std::vector<std::string> law_free_;
@@ -527,6 +785,22 @@ nlohmann::json to_json(const Diagnosis& d, const std::string& data_file) {
   nlohmann::json j;
   j["data"] = data_file;
   j["base_law"] = d.law;
+  j["base_law_chosen"] = d.law_chosen;
+  j["base_laws"] = nlohmann::json::array();
+  for (const auto& b : d.base_laws) {
+    nlohmann::json e{{"law", b.law}, {"dilation", b.dilation}, {"failed", b.failed}};
+    if (b.failed) {
+      e["reason"] = b.reason;
+    } else {
+      e["nrmse"] = nrmse_json(b.fit.nrmse);
+      e["bic"] = b.fit.bic;
+      e["k"] = b.fit.k;
+      e["status"] = b.fit.status;
+      e["params"] = params_json(b.fit);
+      e["worst"] = b.fit.comparison.worst;
+    }
+    j["base_laws"].push_back(e);
+  }
   j["baseline"] = {{"params", params_json(d.baseline)}, {"nrmse", nrmse_json(d.baseline.nrmse)}, {"bic", d.baseline.bic},
                    {"status", d.baseline.status}, {"calibration", to_json(d.baseline)}};
   j["segments"] = nlohmann::json::array();
@@ -540,6 +814,14 @@ nlohmann::json to_json(const Diagnosis& d, const std::string& data_file) {
   j["worst"] = d.baseline.comparison.worst;
   j["covariates"] = nlohmann::json::array();
   for (const auto& c : d.covariates) j["covariates"].push_back({{"variable", c.variable}, {"name", c.name}, {"score", c.score}});
+  j["stage_offsets"] = {{"share", {{"shear_stress", d.stage_offsets.share[0]}, {"normal_disp", d.stage_offsets.share[1]}}},
+                        {"stages", nlohmann::json::array()}};
+  for (const auto& o : d.stage_offsets.stages)
+    j["stage_offsets"]["stages"].push_back({{"stage", o.stage},
+                                            {"rows", o.rows},
+                                            {"normal_stress_MPa", o.normal_stress_MPa},
+                                            {"rate_mm_s", o.rate_mm_s},
+                                            {"mean", {{"shear_stress", o.mean[0]}, {"normal_disp", o.mean[1]}}}});
   j["ranking"] = nlohmann::json::array();
   for (const auto& t : d.ranking) {
     nlohmann::json e{{"effect", t.effect}, {"judged", t.judged}, {"failed", t.failed}};
@@ -573,6 +855,10 @@ nlohmann::json to_json(const Diagnosis& d, const std::string& data_file) {
                 {"settings", d.ladder.back().fit.settings}, {"nrmse", nrmse_json(d.ladder.back().fit.nrmse)}};
   j["warnings"] = d.warnings;
   j["confident"] = d.confident;
+  j["doubts"] = d.doubts;
+  j["not_judged"] = nlohmann::json::array();
+  for (const auto& t : d.ranking)
+    if (!t.judged && !t.failed) j["not_judged"].push_back({{"effect", t.effect}, {"reason", t.reason}});
   j["wall_ms"] = d.wall_ms;
   return j;
 }
@@ -581,12 +867,39 @@ std::string format_report(const Diagnosis& d) {
   std::ostringstream os;
   char buf[512];
   const auto& b = d.baseline;
+  if (!d.base_laws.empty()) {
+    os << "0. base laws alone, best (lowest BIC) first:     combined NRMSE   BIC        where it fails most\n";
+    for (const auto& l : d.base_laws) {
+      const std::string name = l.law + (l.dilation.empty() ? "" : ", dilation = " + l.dilation);
+      if (l.failed) {
+        std::snprintf(buf, sizeof buf, "   %-46s failed: %s\n", name.c_str(), l.reason.c_str());
+      } else {
+        std::snprintf(buf, sizeof buf, "   %-46s %.4f   %11.1f   %s\n", name.c_str(), l.fit.nrmse[2], l.fit.bic,
+                      short_worst(l.fit).c_str());
+      }
+      os << buf;
+    }
+    if (d.law_chosen) os << "   the effects are judged on the best: " << d.law << " (--law best)\n";
+  }
   std::snprintf(buf, sizeof buf, "1. baseline %s: NRMSE shear stress %.4f, normal displacement %.4f, combined %.4f (%s)\n",
                 d.law.c_str(), b.nrmse[0], b.nrmse[1], b.nrmse[2], b.status.c_str());
   os << buf;
   os << "2. where it fails:\n";
   for (const auto& w : b.comparison.worst) os << "   " << w << "\n";
-  os << "3. what the residual follows (adjusted eta^2, best first):\n";
+  const auto& so = d.stage_offsets;
+  if (so.stages.size() > 1) {
+    std::snprintf(buf, sizeof buf, "3. between stages: the stage means explain %.0f %% of the shear-stress residual and %.0f %% of the normal displacement's:\n",
+                  100.0 * so.share[0], 100.0 * so.share[1]);
+    os << buf;
+    for (const auto& o : so.stages) {
+      std::snprintf(buf, sizeof buf, "   stage %d (%.3g MPa, %.3g mm/s): mean residual %+.4f shear stress, %+.4f normal displacement\n",
+                    o.stage, o.normal_stress_MPa, o.rate_mm_s, o.mean[0], o.mean[1]);
+      os << buf;
+    }
+    os << "   within stages (each stage's mean removed), what the residual follows (adjusted eta^2, best first):\n";
+  } else {
+    os << "3. what the residual follows (adjusted eta^2, best first):\n";
+  }
   for (std::size_t i = 0; i < std::min<std::size_t>(6, d.covariates.size()); ++i) {
     std::snprintf(buf, sizeof buf, "   %-20s %-16s %.3f\n", kCompareVariables[d.covariates[i].variable == "shear_stress" ? 0 : 1].name,
                   d.covariates[i].name.c_str(), d.covariates[i].score);
@@ -616,7 +929,12 @@ std::string format_report(const Diagnosis& d) {
   for (const auto& c : d.decisions)
     if (!c.added && c.delta_bic < 0.0) os << "   not added at step " << c.step << ": " << c.effect << " " << c.reason << "\n";
   for (const auto& w : d.warnings) os << "warning: " << w << "\n";
-  if (!d.confident) os << "note: not a confident answer: see the warnings above\n";
+  for (const auto& why : d.doubts) os << "note: not a confident answer: " << why << "\n";
+  std::size_t unjudged = 0;
+  for (const auto& t : d.ranking) unjudged += !t.judged && !t.failed ? 1 : 0;
+  if (d.confident && unjudged > 0)
+    os << "note: " << unjudged << " effect(s) cannot be judged from this record (warnings above); they cannot change "
+       << "its model, so the answer stands for what the record shows\n";
   return os.str();
 }
 

@@ -3,9 +3,12 @@
 //   1. calibrate the base law (calibration.hpp);
 //   2. localise the misfit by variable, stage, cycle and quadrant (compare's segments, worst lines);
 //   3. explain the residual by physical covariates per row (offset, toward_origin, cumulative_slip,
-//      cycle, velocity, normal_stress, fresh_surface): the score is the adjusted correlation ratio
-//      eta^2 of the residual binned on the covariate (Fisher's eta^2, corrected for the number of
-//      bins like an adjusted R^2), i.e. the share of the residual's variance its bin means explain;
+//      cycle, velocity, normal_stress, fresh_surface, time_since_motion) within stages: each
+//      stage's mean residual is removed first and reported on its own (stage_offsets), so that one
+//      badly fitted stage does not put a stage-level covariate (normal stress, rate) first and
+//      hide a dependence inside the stages. The score is the adjusted correlation ratio eta^2 of
+//      the residual binned on the covariate (Fisher's eta^2, corrected for the number of bins like
+//      an adjusted R^2), i.e. the share of the residual's variance its bin means explain;
 //   4. for every effect of the EffectRegistry (but those that declare themselves not physical,
 //      see non_physical_effects()), add it, recalibrate it with the base law (warm start), and rank by
 //      BIC = n ln(RSS/n) + k ln(n) (Schwarz 1978), n = compared residuals, k = free parameters;
@@ -14,6 +17,7 @@
 // Effects that the record cannot reveal (no reverse shearing, one side only, one rate, ...; each
 // effect says so itself from the record's features) are named with the reason and kept out of
 // the ladder. docs/user-guide-calibrate-diagnose.md.
+#include <array>
 #include <string>
 #include <vector>
 
@@ -32,7 +36,28 @@ struct DiagnosisOptions {
   // Fit also the effects the record cannot reveal (their numbers then only say how the effect's
   // side effects bend the law; they stay out of the ladder). Off: they are named, not fitted.
   bool fit_unjudged = false;
+  // Before any effect, fit the standard base laws with each dilation mode (fit_base_laws) and say
+  // which shape fits: an effect must not be credited with what another base law does anyway.
+  bool check_base_laws = true;
+  // Run the effects on the base law and dilation mode that fit best (lowest BIC) instead of
+  // base.law (`rockdem diagnose --law best`); implies check_base_laws.
+  bool use_best_base_law = false;
 };
+
+// One base law with one dilation mode fitted to the record without effects.
+struct BaseLawFit {
+  std::string law, dilation;
+  bool failed = false;
+  std::string reason;     // why the fit failed
+  CalibrationResult fit;  // when not failed
+};
+// The standard laws (mohr_coulomb, barton_bandis, continuously_yielding; and base.law if it is
+// another) with each of their `dilation` modes, fitted to the record with base's stages and
+// element settings, and with those of base's starting values and fixes whose names the law
+// shares (kn, ks: measured on the specimen whatever the law); best (lowest BIC) first, failed
+// fits last. `threads` fits run at a time.
+std::vector<BaseLawFit> fit_base_laws(const MeasurementFile& data, const Segmentation& seg, const CalibrationOptions& base,
+                                      int threads);
 
 // Per-row covariates of a record (one vector per covariate, one value per row).
 struct Covariates {
@@ -40,6 +65,38 @@ struct Covariates {
   std::vector<std::vector<double>> values;
 };
 Covariates row_covariates(const MeasurementFile& data, const Segmentation& seg);
+
+// A stretch of a stage in which the joint is held still (slide-hold-slide tests, pauses between
+// shearing episodes). Rows [begin, end] span it: `begin` is the last row before it stops, `end`
+// the last row still at rest; an interval counts as at rest when its shear rate is below 1 % of
+// the stage's 90th-percentile rate (or zero), so sampling noise on a held joint does not split it.
+struct Hold {
+  int stage = 0;
+  std::size_t begin = 0, end = 0;
+  double duration_s = 0.0;
+  bool followed_by_motion = false;  // the joint shears again later in the stage
+};
+std::vector<Hold> find_holds(const MeasurementFile& data, const Segmentation& seg);
+
+// A stage's mean residual (signed as the covariates' residual: positive = model too strong in
+// shear, too much dilation), with what the stage was run at.
+struct StageOffset {
+  int stage = 0;
+  std::size_t rows = 0;
+  double normal_stress_MPa = 0.0;  // the stage's median
+  double rate_mm_s = 0.0;          // median shear rate over its moving rows
+  std::array<double, 2> mean{};    // per variable, in units of the variable's range
+};
+struct StageOffsets {
+  std::vector<StageOffset> stages;
+  // Share of each variable's residual sum of squares (about its mean) that the stage means
+  // explain (eta^2 on the stage, not adjusted: a handful of stages).
+  std::array<double, 2> share{};
+};
+StageOffsets stage_offsets(const MeasurementFile& data, const Segmentation& seg,
+                           const std::array<std::vector<double>, 2>& residual);
+// `residual` with each stage's mean removed (per variable).
+std::array<std::vector<double>, 2> within_stages(const Segmentation& seg, std::array<std::vector<double>, 2> residual);
 
 struct CovariateScore {
   std::string variable;  // "shear_stress", "normal_disp"
@@ -65,6 +122,7 @@ std::string unjudgeable_reason(const std::string& effect, const MeasurementFile&
 
 struct EffectTrial {
   std::string effect;
+  bool revealable = true;   // the record can reveal it (its unjudgeable rule says nothing)
   bool judged = true;
   std::string reason;       // why not judged, or why the fit failed
   bool failed = false;
@@ -93,12 +151,21 @@ struct LadderDecision {
 struct Diagnosis {
   std::string law;
   CalibrationResult baseline;
-  std::vector<CovariateScore> covariates;  // best first
+  std::vector<BaseLawFit> base_laws;       // the base-law check, best first (empty: not run)
+  bool law_chosen = false;                 // `law` is the check's best, not the user's
+  std::vector<CovariateScore> covariates;  // within stages, best first
+  StageOffsets stage_offsets;              // the baseline residual's stage means
   std::vector<EffectTrial> ranking;        // judged by BIC, best first; then the ones not judged
   std::vector<LadderStep> ladder;          // first: the baseline
   std::vector<LadderDecision> decisions;   // every effect tried for a rung, in order
   std::vector<std::string> warnings;
-  bool confident = true;                   // false: short record or effects that cannot be judged
+  // Whether the answer can be acted on: false when the record is short, when an effect that the
+  // record could reveal could not be fitted (it may be the missing one), or when two effects
+  // explain the misfit about equally (the first rung is a toss-up). Effects the record cannot
+  // reveal do not count: they cannot change this record's model, so the verdict on it stands;
+  // they are listed in `not_judged` (and the warnings) instead.
+  bool confident = true;
+  std::vector<std::string> doubts;         // why not confident (empty when confident)
   double wall_ms = 0.0;
 };
 
@@ -109,8 +176,8 @@ Diagnosis diagnose(const MeasurementFile& data, const Segmentation& seg, const D
 LadderDecision judge_rung(std::size_t step, const std::string& effect, const CalibrationResult& fit,
                           const CalibrationResult& before);
 
-// The JSON of the issue: data, base_law, baseline, segments, covariates, ranking, ladder, final,
-// plus warnings, confident, worst.
+// The JSON of the issue: data, base_law, baseline, segments, covariates, stage_offsets, ranking,
+// ladder, ladder_decisions, final, plus warnings, confident, doubts, not_judged, worst.
 nlohmann::json to_json(const Diagnosis& d, const std::string& data_file);
 std::string format_report(const Diagnosis& d);
 

@@ -39,7 +39,9 @@ const CommandRegistrar reg{Command{
       auto quiet = std::make_shared<bool>(false);
       auto opt = std::make_shared<DiagnosisOptions>();
       sub.add_option("--data", *data, "measured record (measurement CSV); required");
-      sub.add_option("--law", in->law, "base joint law (rockdem laws); required");
+      sub.add_option("--law", in->law,
+                     "base joint law (rockdem laws), or 'best': the standard law and dilation mode that fit the record best; "
+                     "required");
       sub.add_option("--effects", *try_effects, "effects to try, a,b (default: every physical effect registered)");
       sub.add_option("--case", in->case_file, "laboratory-test case: its stages, paths and starting parameters");
       sub.add_option("--fix", in->fix, "fix a base-law parameter: p=VALUE with its unit")->take_all();
@@ -50,13 +52,36 @@ const CommandRegistrar reg{Command{
       sub.add_flag("--overwrite", *overwrite,
                    "replace the --json file if it exists; empty the --report folder first (only one an earlier diagnose wrote)");
       sub.add_option("--threads", opt->threads, "threads (effects fitted in parallel)")->check(CLI::Range(1, 64))->capture_default_str();
+      auto no_check = std::make_shared<bool>(false);
+      sub.add_flag("--no-base-law-check", *no_check,
+                   "do not fit the standard base laws and dilation modes first (faster; no warning when another fits "
+                   "much better)");
       sub.add_flag("--fit-unjudged", opt->fit_unjudged,
                    "fit also the effects this record cannot reveal (reported, kept out of the ladder)");
       sub.add_flag("--quiet", *quiet, "print nothing but errors");
       return [=]() -> int {
         if (data->empty()) throw InputError("rockdem diagnose: --data MEASURED.csv is required");
         if (in->law.empty()) {
-          throw InputError("rockdem diagnose: --law LAW is required; valid laws: " + JointLawRegistry::instance().names_joined());
+          throw InputError("rockdem diagnose: --law LAW is required; valid laws: " + JointLawRegistry::instance().names_joined() +
+                           ", or best");
+        }
+        opt->check_base_laws = !*no_check;
+        if (in->law == "best") {
+          // The law is chosen after the record is read; a base-law parameter cannot be fixed or set
+          // before it is known (--set of an effect's parameter, "effect.param", still can).
+          if (*no_check) throw InputError("rockdem diagnose: --law best needs the base-law check; leave out --no-base-law-check");
+          if (!in->fix.empty())
+            throw InputError("rockdem diagnose --law best: --fix " + in->fix.front() +
+                             ": a base-law parameter is fixed only with the law named (--law mohr_coulomb, barton_bandis, ...)");
+          for (const auto& s : in->set)
+            if (s.substr(0, s.find('=')).find('.') == std::string::npos)
+              throw InputError("rockdem diagnose --law best: --set " + s +
+                               ": a base-law setting is given only with the law named (--law mohr_coulomb, barton_bandis, ...); "
+                               "an effect's is written effect.param=VALUE");
+          opt->use_best_base_law = true;
+          // Read the inputs (case stages, element settings) against a standard law; the check
+          // replaces it with the best one and keeps only the values that law shares.
+          in->law = "mohr_coulomb";
         }
         if (*overwrite && report->empty() && json->empty())
           throw InputError("rockdem diagnose: --overwrite goes with --json or --report (it replaces their files)");
@@ -124,7 +149,7 @@ const CommandRegistrar reg{Command{
           if (!json->empty()) write_json(*json);
           if (!*quiet) {
             std::printf("diagnose: %s (%zu rows, %zu stage(s)), base law %s, %.1f s\n", data->c_str(), d.rows.size(),
-                        seg.stages.size(), in->law.c_str(), dg.wall_ms / 1e3);
+                        seg.stages.size(), dg.law.c_str(), dg.wall_ms / 1e3);
             for (const auto& n : notes) std::printf("note: %s\n", n.c_str());
             std::printf("%s", format_report(dg).c_str());
           }

@@ -101,7 +101,7 @@ class ElementDriver {
   bool frame() const { return opt_.frame_stiffness > 0.0; }
   void solve_normal(const ElementStage& stage, double du_s, double dt);
   // solve_normal, halving the increment (down to 1/64) where it cannot meet the normal condition.
-  void solve_substepped(const ElementStage& stage, double du_s, double dt, int depth);
+  bool solve_substepped(const ElementStage& stage, double du_s, double dt, int depth, bool may_split = true);
   void frame_step(const ElementStage& stage, double du_load, double dt);
   // The driver's state, to try an increment and go back.
   struct Snapshot {
@@ -126,6 +126,9 @@ class ElementDriver {
   double last_du_n_ = 0.0;
   double last_slope_ = 0.0;  // secant dg/d(du_n) of the last solve (negated)
   long steps_ = 0, unconverged_ = 0;
+  // The last increment could not meet the normal condition even in halves: the next ones are not
+  // halved until one meets it whole (each halving of a hopeless increment costs a dozen solves).
+  bool halving_failed_ = false;
   int max_iter_used_ = 0;
   double u_load_ = 0.0, v_block_ = 0.0;  // frame load point [m] and block velocity [m/s]
 };

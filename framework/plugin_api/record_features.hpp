@@ -18,6 +18,11 @@ struct RecordFeatures {
   // 10th and 90th percentiles of the shear rate over the rows that move [mm/s]; both 0 when
   // no row moves. A constant-rate test has them close together.
   double rate_low = 0.0, rate_high = 0.0;
+  // Holds: stretches in which the joint is held still and then sheared again (slide-hold-slide
+  // tests, pauses between episodes). Time-dependent strengthening (healing) shows on the slide
+  // after a hold even when every slide runs at the same rate.
+  int holds = 0;              // holds followed by shearing, of at least 1 s
+  double longest_hold_s = 0;  // the longest of them [s]
   struct Stage {
     double normal_stress_MPa = 0.0;  // the stage's nominal (median) normal stress
     double min_normal_stress_MPa = 0.0, max_normal_stress_MPa = 0.0;  // over its rows

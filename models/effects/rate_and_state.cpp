@@ -64,8 +64,13 @@ struct RateAndState {
   // V0 is the rate the base law was calibrated at, a reference chosen, not fitted (it trades off
   // with the base law's friction).
   static std::vector<std::string> fixed_by_default() { return {"reference_velocity"}; }
+  // Either a change of rate (the direct and evolution effects) or a hold before shearing on (the
+  // ageing law heals a stationary contact: theta grows by the hold time, and the next slide starts
+  // b ln(1 + t_hold V/Dc) stronger) reveals it; a constant-rate record without holds cannot.
   static std::string unjudgeable(const RecordFeatures& f) {
-    if (!(f.rate_high > 3.0 * f.rate_low)) return "the shear rate hardly varies (a constant-rate test): a rate dependence cannot show";
+    if (!(f.rate_high > 3.0 * f.rate_low) && f.holds == 0)
+      return "the shear rate hardly varies and the joint is never held still before shearing on (a constant-rate "
+             "test without holds): neither a rate dependence nor healing can show";
     return {};
   }
   static void modify(const Params& p, State& s, ShearContext& ctx) {

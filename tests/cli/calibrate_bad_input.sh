@@ -40,6 +40,12 @@ expect missing_file 2 calibrate --data "$tmp/none.csv" --law mohr_coulomb -- "--
 expect too_short 2 calibrate --data "$tmp/one_row.csv" --law mohr_coulomb -- "fewer than two rows"
 expect bad_set 2 calibrate --data "$twin" --law mohr_coulomb --set dilation=sometimes -- "must be one of"
 
+# A model that cannot follow the record at any start (the record's normal stress in tension; the
+# law has no tensile strength): the message names the parameter values it failed at.
+awk -F, 'BEGIN { OFS = "," } /^#/ || /^time_s/ { print; next } n < 400 { n++; $3 = -$3; print }' "$twin" >"$tmp/tension.csv"
+expect cannot_run_at_start 2 calibrate --data "$tmp/tension.csv" --law mohr_coulomb -- \
+  "the model at the starting values (ks = " "friction = " "cannot be run or compared with the data" "different normal stress"
+
 # A good calibration: exit 0, the table and the JSON.
 expect good 0 calibrate --data "$twin" --law mohr_coulomb --json "$tmp/cal.json" -- \
   "friction" "NRMSE: shear stress" "fit: converged"
@@ -64,6 +70,21 @@ grep -q '"confident": false' "$tmp/diag.json" || { echo "FAIL diag_forward_only:
 for k in '"base_law"' '"baseline"' '"segments"' '"covariates"' '"ranking"' '"ladder"' '"final"'; do
   grep -q "$k" "$tmp/diag.json" || { echo "FAIL diag_forward_only: no $k in the JSON"; fail=1; }
 done
+
+# --law best: the standard law and dilation mode that fit best carry the effects (the base-law
+# table names them); a base-law parameter cannot be fixed or set before the law is chosen.
+expect diag_best 0 diagnose --data "$twin" --law best --effects dilation_recovery --json "$tmp/best.json" -- \
+  "0. base laws alone, best (lowest BIC) first" "the effects are judged on the best: mohr_coulomb (--law best)" \
+  "1. baseline mohr_coulomb"
+grep -q '"base_law_chosen": true' "$tmp/best.json" || { echo "FAIL diag_best: base_law_chosen is not true"; fail=1; }
+grep -q '"dilation": "reversible"' "$tmp/best.json" || { echo "FAIL diag_best: the chosen dilation mode is not reversible"; fail=1; }
+expect diag_best_fix 2 diagnose --data "$twin" --law best --fix friction=30deg -- \
+  "--law best: --fix friction=30deg: a base-law parameter is fixed only with the law named"
+expect diag_best_set 2 diagnose --data "$twin" --law best --set dilation=reversible -- "a base-law setting is given only with the law named"
+expect diag_best_nocheck 2 diagnose --data "$twin" --law best --no-base-law-check -- "--law best needs the base-law check"
+# The named law with another dilation mode fitting much better: a warning saying what it means.
+expect diag_mode_warning 0 diagnose --data "$twin" --law mohr_coulomb --set dilation=monotonic --effects dilation_recovery -- \
+  "base law: mohr_coulomb with dilation = reversible fits this record much better than mohr_coulomb with dilation = monotonic"
 
 # --report DIR is the diagnosis's own folder, as a run's --out: written with a manifest; refused
 # when not empty (before the fit runs), emptied by --overwrite only when an earlier report made it.
@@ -111,7 +132,7 @@ expect diag_overwrite_alone 2 diagnose --data "$tmp/forward.csv" --law mohr_coul
 # is stepped in halves there: the baseline and the effect are fitted, neither fails.
 { grep '^#' "$src/cases/direct_shear/twins/test14.csv"; grep -v '^#' "$src/cases/direct_shear/twins/test14.csv" | head -1200; } \
   >"$tmp/test14_start.csv"
-expect diag_lift_off 0 diagnose --data "$tmp/test14_start.csv" --law continuously_yielding \
+expect diag_lift_off 0 diagnose --data "$tmp/test14_start.csv" --law continuously_yielding --no-base-law-check \
   --effects reverse_shear_degradation --json "$tmp/lift.json" -- "baseline continuously_yielding" "reverse_shear_degradation"
 for bad in "fails at the fitting step" "fit failed" "start from the baseline's values failed"; do
   grep -qF "$bad" "$tmp/lift.json" && { echo "FAIL diag_lift_off: '$bad' in the diagnosis"; fail=1; }

@@ -39,6 +39,9 @@ DiagnosisOptions options(const std::vector<std::string>& effects) {
   // more than the 1 % at a coarser step (the reversal transient), which is not what this tests.
   o.base.fit_step = 1.25e-5;
   o.effects = effects;
+  // These tests judge the effects on the base law that made the record; the base-law check (nine
+  // more fits per diagnosis) has its own test below.
+  o.check_base_laws = false;
   return o;
 }
 
@@ -48,7 +51,7 @@ TEST(Diagnosis, CovariateScoresFindAKnownDependence) {
   const MeasurementFile f = record(kMc, {}, false, 1);
   const Segmentation seg = segment(f);
   const Covariates c = row_covariates(f, seg);
-  ASSERT_EQ(c.names.size(), 7u);
+  ASSERT_EQ(c.names.size(), 8u);
   std::mt19937 rng(4);
   std::normal_distribution<double> g(0.0, 0.01);
   std::array<std::vector<double>, 2> r;
@@ -196,4 +199,198 @@ TEST(Diagnosis, BlindHiddenEffectIsRankedFirstAndCutsTheError) {
     EXPECT_TRUE(cut) << "seed " << seed << ": " << (d.ladder.size() >= 2 ? d.ladder[1].fit.nrmse[2] : NAN) << " against "
                      << d.baseline.nrmse[2] << "\n" << format_report(d);
   }
+}
+
+namespace {
+
+// A slide-hold-slide record in one direction at 0.042 mm/s: slides of 2 mm separated by holds of
+// `holds_s` (in that order), Mohr-Coulomb with rate-and-state friction, one stage at 2 MPa, every
+// increment kept, seeded noise as noisy_record.hpp's.
+MeasurementFile slide_hold_slide(const std::vector<EffectSpec>& effects, const std::vector<double>& holds_s, unsigned seed) {
+  RawValues law = kMc;
+  law["dilation_angle"] = q("0 deg");
+  auto model = make_joint_model("mohr_coulomb", law, effects, "test");
+  ElementOptions eo;
+  eo.max_step = 2.5e-5;
+  eo.length = 0.2;
+  ElementDriver d(*model, eo);
+  const double v = 4.2e-5, slide = 2e-3;
+  std::vector<double> t{0.0}, u{0.0};
+  for (std::size_t k = 0; k <= holds_s.size(); ++k) {
+    t.push_back(t.back() + slide / v);
+    u.push_back(u.back() + slide);
+    if (k < holds_s.size()) {
+      t.push_back(t.back() + holds_s[k]);
+      u.push_back(u.back());
+    }
+  }
+  std::vector<ElementStage> stages(1);
+  stages[0].normal_stress = 2e6;
+  stages[0].path = ShearPath::table(t, u);
+  MeasurementFile f = d.run(stages);
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> g(0.0, 1.0);
+  for (auto& r : f.rows) {
+    r.shear_stress_MPa += 0.005 * g(rng);
+    r.normal_disp_mm += 0.002 * g(rng);
+  }
+  f.metadata.push_back({"joint_length_m", "0.2"});
+  return f;
+}
+
+const EffectSpec kHealing{"rate_and_state",
+                          {{"a", RawValue{0.01, "test"}}, {"b", RawValue{0.03, "test"}}, {"critical_slip", q("100 um")}},
+                          "test"};
+
+}  // namespace
+
+// Holds are found (the element driver writes a pause as one long increment), a slide-hold-slide
+// record at one rate can reveal rate-and-state healing (the constant-rate record without holds
+// cannot), and time_since_motion carries each hold's length onto the slide after it.
+TEST(Diagnosis, HoldsAreFoundAndMakeHealingJudgeable) {
+  const std::vector<double> holds{100.0, 10.0, 1000.0};
+  const MeasurementFile f = slide_hold_slide({kHealing}, holds, 7);
+  const Segmentation seg = segment(f);
+  const std::vector<Hold> found = find_holds(f, seg);
+  ASSERT_EQ(found.size(), holds.size());
+  for (std::size_t k = 0; k < holds.size(); ++k) {
+    EXPECT_NEAR(found[k].duration_s, holds[k], 1e-9 * holds[k]) << k;
+    EXPECT_TRUE(found[k].followed_by_motion) << k;
+  }
+  const RecordFeatures rf = record_features(f, seg);
+  EXPECT_EQ(rf.holds, 3);
+  EXPECT_NEAR(rf.longest_hold_s, 1000.0, 1e-6);
+  EXPECT_EQ(unjudgeable_reason("rate_and_state", rf), "");
+  // The same slides without holds: one rate, nothing held.
+  const MeasurementFile plain = slide_hold_slide({kHealing}, {}, 7);
+  EXPECT_NE(unjudgeable_reason("rate_and_state", plain, segment(plain)).find("never held still"), std::string::npos);
+  const Covariates c = row_covariates(f, seg);
+  ASSERT_EQ(c.names.back(), "time_since_motion");
+  const auto& tsm = c.values.back();
+  // The slide after each hold carries that hold's length; the first slide none.
+  EXPECT_EQ(tsm[found[0].begin], 0.0);
+  EXPECT_NEAR(tsm[found[0].end + 1], 100.0, 1e-9);
+  EXPECT_NEAR(tsm[found[1].begin], 100.0, 1e-9);
+  EXPECT_NEAR(tsm[found[1].end + 1], 10.0, 1e-9);
+  EXPECT_NEAR(tsm[found[2].end + 1], 1000.0, 1e-9);
+  EXPECT_NEAR(tsm.back(), 1000.0, 1e-9);
+}
+
+// Diagnose on that record, not told: rate_and_state is judged, ranked first and cuts the error;
+// the effects a one-sided record cannot reveal are listed as not judged and do not make the
+// answer "not confident".
+TEST(Diagnosis, SlideHoldSlideHealingIsFoundWithAConfidentAnswer) {
+  const MeasurementFile f = slide_hold_slide({kHealing}, {100.0, 10.0, 1000.0}, 11);
+  const Segmentation seg = segment(f);
+  DiagnosisOptions o = options({"rate_and_state", "reverse_shear_degradation", "directional_wear", "two_order_roughness"});
+  o.base.law_values["dilation_angle"] = q("0 deg");
+  o.base.fix["dilation_angle"] = 0.0;
+  o.base.element.max_step = 2.5e-5;
+  o.base.fit_step = 2.5e-5;
+  const Diagnosis d = diagnose(f, seg, o);
+  std::printf("%s", format_report(d).c_str());
+  ASSERT_FALSE(d.ranking.empty());
+  EXPECT_EQ(d.ranking.front().effect, "rate_and_state") << format_report(d);
+  ASSERT_GE(d.ladder.size(), 2u) << format_report(d);
+  EXPECT_EQ(d.ladder[1].effects.front(), "rate_and_state");
+  // The shear stress carries the healing; the normal displacement is noise here (no dilation),
+  // which holds the combined NRMSE near 0.1 whatever the model.
+  EXPECT_LT(d.ladder[1].fit.nrmse[0], d.baseline.nrmse[0] / 3.0) << format_report(d);
+  const auto value = [&](const std::string& name) {
+    for (const auto& p : d.ladder[1].fit.params)
+      if (p.name == name) return p.value;
+    return std::nan("");
+  };
+  EXPECT_NEAR(value("rate_and_state.a"), 0.01, 0.001);
+  EXPECT_NEAR(value("rate_and_state.b"), 0.03, 0.003);
+  EXPECT_NEAR(value("rate_and_state.critical_slip"), 100e-6, 10e-6);
+  EXPECT_TRUE(d.confident) << format_report(d);
+  const nlohmann::json j = to_json(d, "shs.csv");
+  bool listed = false;
+  for (const auto& e : j["not_judged"]) listed = listed || e["effect"] == "reverse_shear_degradation";
+  EXPECT_TRUE(listed) << j["not_judged"].dump();
+  EXPECT_TRUE(j["doubts"].empty());
+}
+
+// One badly fitted stage: a stage-level offset (0.1 of the range on stage 2) would put
+// normal_stress first and hide the dependence inside the stages (0.03 when shearing back). With
+// each stage's mean removed, toward_origin comes first and the offset is reported on its own.
+TEST(Diagnosis, StageOffsetsAreReportedApartFromCovariatesWithinStages) {
+  const MeasurementFile f = record(kMc, {}, false, 5);
+  const Segmentation seg = segment(f);
+  ASSERT_EQ(seg.stages.size(), 2u);
+  std::mt19937 rng(9);
+  std::normal_distribution<double> g(0.0, 0.005);
+  std::array<std::vector<double>, 2> r;
+  for (std::size_t i = 0; i < f.rows.size(); ++i) {
+    r[0].push_back((seg.labels[i].stage == 2 ? 0.1 : 0.0) + (seg.labels[i].direction < 0 ? 0.03 : 0.0) + g(rng));
+    r[1].push_back(g(rng));
+  }
+  const Covariates c = row_covariates(f, seg);
+  const auto top_tau = [](const std::vector<CovariateScore>& s) {
+    for (const auto& x : s)
+      if (x.variable == "shear_stress") return x.name;
+    return std::string();
+  };
+  EXPECT_EQ(top_tau(score_covariates(c, r)), "normal_stress");  // what the stage offset did before
+  EXPECT_EQ(top_tau(score_covariates(c, within_stages(seg, r))), "toward_origin");
+  const StageOffsets so = stage_offsets(f, seg, r);
+  ASSERT_EQ(so.stages.size(), 2u);
+  EXPECT_NEAR(so.stages[1].mean[0] - so.stages[0].mean[0], 0.1, 0.005);
+  EXPECT_NEAR(so.stages[0].normal_stress_MPa, 2.0, 0.01);
+  EXPECT_NEAR(so.stages[1].normal_stress_MPa, 4.0, 0.01);
+  EXPECT_NEAR(so.stages[0].rate_mm_s, 0.042, 0.001);
+  EXPECT_GT(so.share[0], 0.7);
+  EXPECT_LT(so.share[1], 0.01);
+  // Within stages, every stage's mean is zero.
+  const auto w = within_stages(seg, r);
+  for (const auto& st : seg.stages) {
+    double sum = 0.0;
+    for (std::size_t i = st.begin; i < st.end; ++i) sum += w[0][i];
+    EXPECT_NEAR(sum / static_cast<double>(st.end - st.begin), 0.0, 1e-12);
+  }
+}
+
+// The base law's shape first: a Continuously-Yielding record (dilation decaying with wear, none
+// given back on reverse shearing) diagnosed with Mohr-Coulomb (constant dilation) is a warning and
+// a doubt naming the better law; with --law best the effects are judged on Continuously-Yielding,
+// and dilation_recovery, which the record does not have, is not credited with the shape.
+TEST(Diagnosis, BaseLawCheckNamesABetterShapeAndBestUsesIt) {
+  const RawValues cy{{"kn", q("40 GPa/m")},     {"ks", q("15 GPa/m")},    {"initial_friction", q("50 deg")},
+                     {"friction", q("32 deg")}, {"roughness", q("3 mm")}, {"dilation", q("monotonic")}};
+  auto model = make_joint_model("continuously_yielding", cy, {}, "test");
+  const MeasurementFile f = testutil::noisy_two_stage_record(*model, 2.5e-5, 4, false, 21);
+  const Segmentation seg = segment(f);
+  DiagnosisOptions o = options({"dilation_recovery", "reverse_shear_degradation"});
+  o.base.element.max_step = 2.5e-5;
+  o.base.fit_step = 5e-5;
+  o.base.law_values["dilation"] = q("monotonic");
+  o.check_base_laws = true;
+  const Diagnosis named = diagnose(f, seg, o);
+  std::printf("%s", format_report(named).c_str());
+  ASSERT_FALSE(named.base_laws.empty());
+  EXPECT_EQ(named.base_laws.front().law, "continuously_yielding") << format_report(named);
+  EXPECT_EQ(named.base_laws.size(), 9u);  // three laws, three dilation modes each
+  for (std::size_t i = 1; i < named.base_laws.size(); ++i)
+    if (!named.base_laws[i].failed) {
+      EXPECT_LE(named.base_laws[i - 1].fit.bic, named.base_laws[i].fit.bic);
+    }
+  bool warned = false;
+  for (const auto& w : named.warnings)
+    warned = warned || (w.find("continuously_yielding with dilation") != std::string::npos &&
+                        w.find("fits this record much better than mohr_coulomb with dilation = monotonic") != std::string::npos);
+  EXPECT_TRUE(warned) << format_report(named);
+  EXPECT_FALSE(named.confident);
+  ASSERT_FALSE(named.doubts.empty());
+  EXPECT_NE(named.doubts.front().find("another base law fits much better"), std::string::npos) << named.doubts.front();
+
+  o.use_best_base_law = true;
+  const Diagnosis best = diagnose(f, seg, o);
+  std::printf("%s", format_report(best).c_str());
+  EXPECT_EQ(best.law, "continuously_yielding");
+  EXPECT_TRUE(best.law_chosen);
+  EXPECT_EQ(to_json(best, "cy.csv")["base_law"], "continuously_yielding");
+  EXPECT_LT(best.baseline.nrmse[2], 0.5 * named.baseline.nrmse[2]) << format_report(best);
+  for (const auto& rung : best.ladder)
+    for (const auto& e : rung.effects) EXPECT_NE(e, "dilation_recovery") << format_report(best);
 }
