@@ -306,6 +306,9 @@ const CommandRegistrar reg{Command{
           c = *use_default ? load_case_text(kDefaultCaseText, "built-in default case (cases/direct_shear/test09_coulomb.toml)", ".")
                            : load_case(*file, joint_files);
         }
+        // Before any output folder is made: a --write-blocks look at the case shows them too.
+        if (comm.root())
+          for (const auto& w : c.warnings) std::cerr << "rockdem: warning: " << w << "\n";
         if (!write_blocks->empty()) {
           if (!comm.root()) return 0;
           // A folder for inspection files: its three files are replaced only when asked.

@@ -45,6 +45,67 @@ TriMesh block_mesh(const BlockSpec& s, const Polygon& shape) {
                         std::max(1, static_cast<int>(std::lround(rect.height / s.zone_size))));
 }
 
+// Whether nothing of the model lies above x, a point of edge `edge` of block `block`: no other
+// boundary edge (of any block, that one's included) crosses the vertical through x higher than
+// x, less `tol` (a neighbour lying on the edge is above it).
+bool nothing_above(const Model& m, int block, int edge, const Vec2& x, double tol) {
+  for (std::size_t b = 0; b < m.blocks.size(); ++b) {
+    const auto& loop = m.blocks[b].boundary;
+    const std::size_t n = loop.size();
+    for (std::size_t i = 0; i < n; ++i) {
+      if (static_cast<int>(b) == block && static_cast<int>(i) == edge) continue;
+      const Vec2 p = m.gp[static_cast<std::size_t>(loop[i])].x, q = m.gp[static_cast<std::size_t>(loop[(i + 1) % n])].x;
+      if ((p.x() - x.x()) * (q.x() - x.x()) > 0.0) continue;  // both ends on one side of the vertical
+      const double y = p.x() == q.x() ? std::max(p.y(), q.y()) : p.y() + (x.x() - p.x()) * (q.y() - p.y()) / (q.x() - p.x());
+      if (y > x.y() - tol) return false;
+    }
+  }
+  return true;
+}
+
+// Whether selected edges are on the model's top: facing up (more up than sideways, so that the
+// top of a slope counts) with nothing of the model above them. Neither the floor of an opening
+// (the rock above it) nor a block's top under another block is the model's top, and a quiet
+// boundary there makes no couple with the base input.
+bool on_models_top(const Model& m, const std::vector<FaceSelection>& sels) {
+  double size = 0.0;
+  for (const auto& g : m.gp) size = std::max(size, g.x.cwiseAbs().maxCoeff());
+  const double tol = 1e-9 * std::max(size, 1.0);
+  for (const FaceSelection& sel : sels) {
+    const auto& loop = m.blocks[static_cast<std::size_t>(sel.block)].boundary;
+    const std::size_t n = loop.size();
+    for (int i : sel.edges) {
+      const Vec2 a = m.gp[static_cast<std::size_t>(loop[static_cast<std::size_t>(i)])].x,
+                 b = m.gp[static_cast<std::size_t>(loop[(static_cast<std::size_t>(i) + 1) % n])].x;
+      const Vec2 d = b - a;  // counter-clockwise: the outward normal is (d.y, -d.x)
+      if (-d.x() > std::abs(d.y()) && nothing_above(m, sel.block, i, 0.5 * (a + b), tol)) return true;
+    }
+  }
+  return false;
+}
+
+// "left" or "right": the side a free-field column is on (the outward normal of its edges).
+std::string column_side(const Model& m, const std::vector<FaceSelection>& sels) {
+  for (const FaceSelection& sel : sels) {
+    if (sel.edges.empty()) continue;
+    const auto& loop = m.blocks[static_cast<std::size_t>(sel.block)].boundary;
+    const auto i = static_cast<std::size_t>(sel.edges.front());
+    const double dy = m.gp[static_cast<std::size_t>(loop[(i + 1) % loop.size()])].x.y() - m.gp[static_cast<std::size_t>(loop[i])].x.y();
+    return dy > 0.0 ? "right" : "left";  // counter-clockwise: going up on the right side
+  }
+  return "?";
+}
+
+bool active_in(const std::vector<std::string>& stages, const std::string& stage) {
+  return stages.empty() || std::find(stages.begin(), stages.end(), stage) != stages.end();
+}
+
+std::string quoted_list(const std::vector<std::string>& names) {
+  std::string out;
+  for (const auto& n : names) out += (out.empty() ? "'" : ", '") + n + "'";
+  return out;
+}
+
 }  // namespace
 
 CaseBuilder::CaseBuilder(const std::string& file, const std::string& title) {
@@ -259,6 +320,7 @@ void CaseBuilder::add_region_boundary(const BoundarySpec& s) {
     auto bc = kind.make_spanning(in, selections);
     bc->stages = s.stages;
     c_.conditions.push_back(std::move(bc));
+    note_column_top(s, selections);
     return;
   }
   for (const FaceSelection& sel : selections) {
@@ -269,6 +331,7 @@ void CaseBuilder::add_region_boundary(const BoundarySpec& s) {
     bc->stages = s.stages;
     c_.conditions.push_back(std::move(bc));
   }
+  note_column_top(s, selections);
 }
 
 void CaseBuilder::add_boundary(const BoundarySpec& s) {
@@ -291,6 +354,61 @@ void CaseBuilder::add_boundary(const BoundarySpec& s) {
   auto bc = kind.make_spanning ? kind.make_spanning(in, {in.selection}) : kind.make(in);
   bc->stages = s.stages;
   c_.conditions.push_back(std::move(bc));
+  note_column_top(s, {in.selection});
+}
+
+void CaseBuilder::note_column_top(const BoundarySpec& s, const std::vector<FaceSelection>& selections) {
+  if (s.type != "quiet" && s.type != "free_field") return;
+  TopCondition t;
+  t.free_field = s.type == "free_field";
+  const auto top = s.values.find("top");  // checked by the kind when it made the condition
+  t.quiet_top = t.free_field && top != s.values.end() && !top->second.names.empty() && top->second.names.front() == "quiet";
+  t.selections = selections;
+  t.stages = s.stages;
+  t.where = s.where;
+  top_conditions_.push_back(std::move(t));
+}
+
+// A free-field column's top must be as the model's top in the stages they share (docs/seismic-
+// input.md, "Free-field sides"). Free column tops under a quiet model top leave the couple of the
+// base input and the top's dashpots unbalanced, and the whole model turns; a quiet column top
+// under a top that reflects drives the side with another free field than the model's. Both run
+// and are warned of, not refused: a study may keep them on purpose (cases/drift/small.toml keeps
+// free tops, docs/drift-study.md).
+void CaseBuilder::check_column_tops() {
+  std::vector<const TopCondition*> quiet_tops;
+  for (const auto& t : top_conditions_)
+    if (!t.free_field && on_models_top(c_.model, t.selections)) quiet_tops.push_back(&t);
+  for (const auto& ff : top_conditions_) {
+    if (!ff.free_field) continue;
+    std::vector<std::string> stages, quiet_wheres;
+    for (const auto& stage : c_.stages) {
+      if (!active_in(ff.stages, stage.name)) continue;
+      bool quiet = false;
+      for (const TopCondition* q : quiet_tops)
+        if (active_in(q->stages, stage.name)) {
+          quiet = true;
+          if (std::find(quiet_wheres.begin(), quiet_wheres.end(), q->where) == quiet_wheres.end()) quiet_wheres.push_back(q->where);
+        }
+      if (quiet != ff.quiet_top) stages.push_back(stage.name);
+    }
+    if (stages.empty()) continue;
+    const std::string in_stages = (stages.size() == 1 ? "stage " : "stages ") + quoted_list(stages);
+    const std::string which = ff.where + " (free_field, " + column_side(c_.model, ff.selections) + " side): ";
+    if (!ff.quiet_top)
+      c_.warnings.push_back(
+          which + "its column's top is \"free\" but the model's top is quiet (the quiet boundar" +
+          (quiet_wheres.size() == 1 ? "y " : "ies ") + join_names(quiet_wheres) +
+          ") in " + in_stages + ": the base input and the top's dashpots make a couple that free column tops leave "
+          "unbalanced, and the whole model turns (docs/seismic-input.md, \"Free-field sides\"); set top = \"quiet\" in "
+          "this boundary");
+    else
+      c_.warnings.push_back(
+          which + "its column's top is \"quiet\" but no quiet boundary is on the model's top in " + in_stages +
+          ": the column lets out through its top the waves the model's top reflects, so the side is driven by another "
+          "free field than the model's (docs/seismic-input.md, \"Free-field sides\"); leave out top (\"free\", the "
+          "default) or put a quiet boundary on the model's top in " + (stages.size() == 1 ? "that stage" : "those stages"));
+  }
 }
 
 void CaseBuilder::resolve_excavation(const StageInput& s, StageSpec& stage) {
@@ -370,6 +488,7 @@ void CaseBuilder::finish_stages() {
                        "later; limit it to earlier stages with stages = [...] or do not excavate the block");
   }
   check_stage_motions();
+  check_column_tops();
 }
 
 int CaseBuilder::component_index(const HistoryQuantity& q, const HistoryInput& s) {

@@ -37,7 +37,8 @@ class CaseBuilder {
   void add_motion(const MotionSpec& s);
   void add_boundary(const BoundarySpec& s);
   void add_stage(const StageInput& s);
-  // No stages, and conditions naming stages that do not exist, are mistakes.
+  // No stages, and conditions naming stages that do not exist, are mistakes. Free-field columns
+  // whose top is not as the model's top in a stage they share are warned of (Case::warnings).
   void finish_stages();
   void add_history(const HistoryInput& s);
   void direct_shear(const DirectShearInput& s);
@@ -51,6 +52,9 @@ class CaseBuilder {
   void resolve_motions(const StageInput& s, StageSpec& stage) const;
   // Every stage's motions are taken by a condition active in it, of a type it can take.
   void check_stage_motions();
+  // Quiet and free-field conditions, kept for check_column_tops.
+  void note_column_top(const BoundarySpec& s, const std::vector<FaceSelection>& selections);
+  void check_column_tops();
   int excavated_by(int block) const;
   static int component_index(const HistoryQuantity& q, const HistoryInput& s);
   int group_index(const std::string& group);
@@ -74,6 +78,16 @@ class CaseBuilder {
   };
   std::vector<NamedCondition> named_conditions_;
   std::set<std::string> edge_joint_names_;  // joint sets and named joints that block edges lie on
+  // The quiet and free_field [[boundary]] entries, in the order given: whether a free-field
+  // column's top matches the model's top is a question about both, answered once the stages are known.
+  struct TopCondition {
+    bool free_field = false;  // else quiet
+    bool quiet_top = false;   // free_field: top = "quiet"
+    std::vector<FaceSelection> selections;
+    std::vector<std::string> stages;
+    std::string where;
+  };
+  std::vector<TopCondition> top_conditions_;
 };
 
 // A whole case from specs made in code.

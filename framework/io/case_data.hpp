@@ -118,6 +118,10 @@ struct Case {
   // The case as it was read (TOML; --joint files in a table `--joint`), kept in checkpoints: a
   // restart compares it with its own (case_comparison.hpp).
   std::string source_toml;
+  // What the builder found legal but most likely a mistake (free-field column tops unlike the
+  // model's top), one message each, naming the entries: the command that runs the case prints
+  // them as warnings, and the run goes on (a study may keep such a case on purpose).
+  std::vector<std::string> warnings;
   int block_index(const std::string& name, const std::string& where) const;
 };
 
