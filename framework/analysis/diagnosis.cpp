@@ -136,7 +136,13 @@ std::vector<Hold> find_holds(const MeasurementFile& data, const Segmentation& se
       rates.push_back(std::abs(rows[i].shear_disp_mm - rows[i - 1].shear_disp_mm) / dt);
       steps.push_back(dt);
     }
-    const double ref = percentile(rates, 0.9);
+    // The slide rate: the 90th percentile of the intervals that move (above 1 % of the fastest),
+    // not of all of them: long holds logged at a fixed rate are most of a stage's intervals.
+    const double fastest = rates.empty() ? 0.0 : *std::max_element(rates.begin(), rates.end());
+    std::vector<double> moving;
+    for (double r : rates)
+      if (r > 0.01 * fastest) moving.push_back(r);
+    const double ref = percentile(moving, 0.9);
     if (!(ref > 0.0)) continue;  // the stage never shears: nothing is held between shearing
     // A hold lasts at least ten of the stage's typical sampling intervals: a sinusoid slows to
     // rest at its turning points for a few samples only, a held joint stays for many (or for one
@@ -361,11 +367,15 @@ std::array<std::vector<double>, 2> within_stages(const Segmentation& seg, std::a
 namespace {
 
 // base's options carried over to `law`: stages, element and fit settings, and the values, fixes
-// and starts of the parameters `law` has too; `dilation` set to the mode tried.
+// and starts of its stiffnesses (kn, ks: measured on the specimen, the same whatever the law)
+// when `law` has them too; `dilation` set to the mode tried. Other names are not carried: the
+// same name can mean another quantity (Mohr-Coulomb's friction is the friction angle,
+// Continuously-Yielding's the basic one).
 CalibrationOptions options_for_law(const CalibrationOptions& base, const std::string& law, const std::string& dilation) {
   const auto& entry = JointLawRegistry::instance().get(law, "joint law", "diagnose");
   const auto has = [&](const std::string& name) {
-    return std::any_of(entry.params.begin(), entry.params.end(), [&](const ParamInfo& p) { return p.name == name; });
+    return std::any_of(entry.params.begin(), entry.params.end(),
+                       [&](const ParamInfo& p) { return p.name == name && p.dim == Dimension::stiffness; });
   };
   CalibrationOptions o = base;
   o.law = law;
@@ -503,12 +513,23 @@ class DiagnosisRun {
   // reversible dilation and dilation_recovery both give dilation back): a warning, no doubt.
   void compare_with_base_laws() {
     if (d_.base_laws.empty() || d_.law_chosen) return;
-    const BaseLawFit& best = d_.base_laws.front();
-    if (best.failed) return;
     const auto& b = d_.baseline;
     const std::string mode = b.settings.contains("dilation") ? b.settings["dilation"].get<std::string>() : "";
-    if (best.law == d_.law && best.dilation == mode) return;
-    if (!(best.fit.nrmse[2] <= 0.8 * b.nrmse[2] && best.fit.bic < b.bic)) return;
+    // The best of the named law's other modes and the best other law, each judged on its own (a
+    // mode of the named law first in the list must not hide a better law behind it).
+    const BaseLawFit* same = nullptr;
+    const BaseLawFit* other = nullptr;
+    for (const auto& l : d_.base_laws) {
+      if (l.failed || (l.law == d_.law && l.dilation == mode)) continue;
+      if (l.law == d_.law && !same) same = &l;
+      if (l.law != d_.law && !other) other = &l;
+    }
+    for (const BaseLawFit* l : {same, other})
+      if (l && l->fit.nrmse[2] <= 0.8 * b.nrmse[2] && l->fit.bic < b.bic) warn_better_base_law(*l, mode);
+  }
+
+  void warn_better_base_law(const BaseLawFit& best, const std::string& mode) {
+    const auto& b = d_.baseline;
     const std::string named = d_.law + (mode.empty() ? "" : " with dilation = " + mode);
     const std::string better = best.law + (best.dilation.empty() ? "" : " with dilation = " + best.dilation);
     char buf[800];

@@ -69,7 +69,9 @@ Covariates row_covariates(const MeasurementFile& data, const Segmentation& seg);
 // A stretch of a stage in which the joint is held still (slide-hold-slide tests, pauses between
 // shearing episodes). Rows [begin, end] span it: `begin` is the last row before it stops, `end`
 // the last row still at rest; an interval counts as at rest when its shear rate is below 1 % of
-// the stage's 90th-percentile rate (or zero), so sampling noise on a held joint does not split it.
+// the slide rate (the 90th percentile of the intervals that move). Displacement noise larger than
+// that on a held joint splits a hold (not yet handled: records with a noisy displacement channel
+// during holds need a windowed test).
 struct Hold {
   int stage = 0;
   std::size_t begin = 0, end = 0;

@@ -76,12 +76,13 @@ const CommandRegistrar reg{Command{
           for (const auto& s : in->set)
             if (s.substr(0, s.find('=')).find('.') == std::string::npos)
               throw InputError("rockdem diagnose --law best: --set " + s +
-                               ": a base-law setting is given only with the law named (--law mohr_coulomb, barton_bandis, ...); "
-                               "an effect's is written effect.param=VALUE");
+                               ": a base-law setting is given only with the law named (--law mohr_coulomb, barton_bandis, ...)");
           opt->use_best_base_law = true;
-          // Read the inputs (case stages, element settings) against a standard law; the check
-          // replaces it with the best one and keeps only the values that law shares.
+          // Read the inputs (case stages, element settings, and the case's values) against the
+          // case's own law, or a standard one; the check replaces it with the best and keeps only
+          // the stiffnesses kn and ks, which that law has too.
           in->law = "mohr_coulomb";
+          if (!in->case_file.empty() && fs::exists(in->case_file)) in->law = read_lab_test(in->case_file).law;
         }
         if (*overwrite && report->empty() && json->empty())
           throw InputError("rockdem diagnose: --overwrite goes with --json or --report (it replaces their files)");

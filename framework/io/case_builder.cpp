@@ -376,6 +376,7 @@ void CaseBuilder::note_column_top(const BoundarySpec& s, const std::vector<FaceS
 // and are warned of, not refused: a study may keep them on purpose (cases/drift/small.toml keeps
 // free tops, docs/drift-study.md).
 void CaseBuilder::check_column_tops() {
+  if (std::none_of(top_conditions_.begin(), top_conditions_.end(), [](const TopCondition& t) { return t.free_field; })) return;
   std::vector<const TopCondition*> quiet_tops;
   for (const auto& t : top_conditions_)
     if (!t.free_field && on_models_top(c_.model, t.selections)) quiet_tops.push_back(&t);

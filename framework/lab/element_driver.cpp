@@ -150,6 +150,7 @@ void ElementDriver::reset() {
   u_load_ = v_block_ = 0.0;
   steps_ = unconverged_ = 0;
   halving_failed_ = false;
+  skipped_halvings_ = 0;
   max_iter_used_ = 0;
 }
 
@@ -237,6 +238,8 @@ const JointResponse& ElementDriver::begin_stage(const ElementStage& stage) {
   if (stage.control == NormalControl::constant_stiffness && !(stage.normal_stiffness >= 0.0)) {
     throw InputError("element driver: constant normal stiffness needs normal_stiffness >= 0");
   }
+  halving_failed_ = false;
+  skipped_halvings_ = 0;
   // Normal loading to the stage's normal stress without shear, under constant normal stress.
   ElementStage load = stage;
   load.control = NormalControl::constant_stress;
@@ -257,7 +260,11 @@ const JointResponse& ElementDriver::step(const ElementStage& stage, double du_s,
   if (frame()) {
     frame_step(stage, du_s, dt);
   } else {
-    halving_failed_ = !solve_substepped(stage, du_s, dt, 0, !halving_failed_);
+    // After a hopeless increment, halving is tried again every 16th increment (a lift-off stretch
+    // that halving can get through is not left at 0 MPa for the rest of the stage).
+    const bool split = !halving_failed_ || ++skipped_halvings_ % 16 == 0;
+    halving_failed_ = !solve_substepped(stage, du_s, dt, 0, split);
+    if (!halving_failed_) skipped_halvings_ = 0;
   }
   return r_;
 }
@@ -281,8 +288,8 @@ void ElementDriver::restore(const Snapshot& s) {
 // see the joint's stiffness and dilation change within the increment, as a finer step would.
 // When halving did not make the first half meet the condition, the increment cannot meet it at
 // any step (a joint that has lost contact for good at these parameters): its second half is solved
-// once, not split again, and the increments after it are not halved until one meets the
-// condition whole (step()). Without that, such an increment cost 127 normal solves instead of
+// once, not split again, and the increments after it are halved only every 16th until one
+// meets the condition (step(); reset at each stage's start). Without that, such an increment cost 127 normal solves instead of
 // one, on every increment of the rest of the path (a Mohr-Coulomb fit with reversible dilation
 // on the start of test 14's twin ran for minutes). Returns whether all of it met the condition.
 bool ElementDriver::solve_substepped(const ElementStage& stage, double du_s, double dt, int depth, bool may_split) {

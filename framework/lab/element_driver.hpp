@@ -127,8 +127,9 @@ class ElementDriver {
   double last_slope_ = 0.0;  // secant dg/d(du_n) of the last solve (negated)
   long steps_ = 0, unconverged_ = 0;
   // The last increment could not meet the normal condition even in halves: the next ones are not
-  // halved until one meets it whole (each halving of a hopeless increment costs a dozen solves).
+  // halved (but every 16th) until one meets it (each halving of a hopeless increment costs a dozen solves).
   bool halving_failed_ = false;
+  long skipped_halvings_ = 0;
   int max_iter_used_ = 0;
   double u_load_ = 0.0, v_block_ = 0.0;  // frame load point [m] and block velocity [m/s]
 };

@@ -276,6 +276,30 @@ TEST(Diagnosis, HoldsAreFoundAndMakeHealingJudgeable) {
   EXPECT_NEAR(tsm.back(), 1000.0, 1e-9);
 }
 
+// Holds logged at a fixed rate (1 Hz), as a laboratory records them, are most of the stage's
+// intervals (4,000 s at rest against 190 s of sliding): they are still found.
+TEST(Diagnosis, LongHoldsLoggedAtAFixedRateAreFound) {
+  MeasurementFile f;
+  double t = 0.0, u = 0.0;
+  const auto add = [&](double du) {
+    f.rows.push_back({t, 1, 2.0, u, 1.2, 0.0});
+    t += 1.0;
+    u += du;
+  };
+  for (const double hold : {1000.0, 3000.0, 0.0}) {
+    for (int i = 0; i < 48; ++i) add(0.042);  // 2 mm at 0.042 mm/s
+    for (int i = 0; i < static_cast<int>(hold); ++i) add(0.0);
+  }
+  add(0.0);
+  const Segmentation seg = segment(f);
+  const std::vector<Hold> holds = find_holds(f, seg);
+  ASSERT_EQ(holds.size(), 2u);
+  EXPECT_NEAR(holds[0].duration_s, 1000.0, 1.0);
+  EXPECT_NEAR(holds[1].duration_s, 3000.0, 1.0);
+  EXPECT_TRUE(holds[0].followed_by_motion && holds[1].followed_by_motion);
+  EXPECT_EQ(record_features(f, seg).holds, 2);
+}
+
 // Diagnose on that record, not told: rate_and_state is judged, ranked first and cuts the error;
 // the effects a one-sided record cannot reveal are listed as not judged and do not make the
 // answer "not confident".
