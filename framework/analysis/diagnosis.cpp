@@ -366,16 +366,19 @@ std::array<std::vector<double>, 2> within_stages(const Segmentation& seg, std::a
 
 namespace {
 
-// base's options carried over to `law`: stages, element and fit settings, and the values, fixes
-// and starts of its stiffnesses (kn, ks: measured on the specimen, the same whatever the law)
-// when `law` has them too; `dilation` set to the mode tried. Other names are not carried: the
-// same name can mean another quantity (Mohr-Coulomb's friction is the friction angle,
-// Continuously-Yielding's the basic one).
+// base's options carried over to `law`: stages, element and fit settings; for base's own law
+// all its values, fixes and starts (a case's critical_shear_disp decides what udec_legacy
+// does), for another law those of its stiffnesses (kn, ks: measured on the specimen, the same
+// whatever the law) only, since the same name can mean another quantity (Mohr-Coulomb's
+// friction is the friction angle, Continuously-Yielding's the basic one); `dilation` set to the
+// mode tried.
 CalibrationOptions options_for_law(const CalibrationOptions& base, const std::string& law, const std::string& dilation) {
   const auto& entry = JointLawRegistry::instance().get(law, "joint law", "diagnose");
+  const bool own = law == base.law;
   const auto has = [&](const std::string& name) {
-    return std::any_of(entry.params.begin(), entry.params.end(),
-                       [&](const ParamInfo& p) { return p.name == name && p.dim == Dimension::stiffness; });
+    return std::any_of(entry.params.begin(), entry.params.end(), [&](const ParamInfo& p) {
+      return p.name == name && (own || p.dim == Dimension::stiffness);
+    });
   };
   CalibrationOptions o = base;
   o.law = law;
