@@ -124,18 +124,32 @@ std::vector<std::string> non_physical_effects() {
   return out;
 }
 
+namespace {
+
+// Shear rates |du|/dt [mm/s] and time steps [s] of the intervals between consecutive rows of a
+// stage that take time (rows repeated at one time are left out).
+struct IntervalRates {
+  std::vector<double> rates, steps;
+};
+IntervalRates interval_rates(const MeasurementFile& data, const StageInfo& st) {
+  IntervalRates out;
+  for (std::size_t i = st.begin + 1; i < st.end; ++i) {
+    const double dt = data.rows[i].time_s - data.rows[i - 1].time_s;
+    if (!(dt > 0.0)) continue;
+    out.rates.push_back(std::abs(data.rows[i].shear_disp_mm - data.rows[i - 1].shear_disp_mm) / dt);
+    out.steps.push_back(dt);
+  }
+  return out;
+}
+
+}  // namespace
+
 std::vector<Hold> find_holds(const MeasurementFile& data, const Segmentation& seg) {
   std::vector<Hold> out;
   const auto& rows = data.rows;
   for (const auto& st : seg.stages) {
     if (st.end < st.begin + 3) continue;
-    std::vector<double> rates, steps;
-    for (std::size_t i = st.begin + 1; i < st.end; ++i) {
-      const double dt = rows[i].time_s - rows[i - 1].time_s;
-      if (!(dt > 0.0)) continue;
-      rates.push_back(std::abs(rows[i].shear_disp_mm - rows[i - 1].shear_disp_mm) / dt);
-      steps.push_back(dt);
-    }
+    const auto [rates, steps] = interval_rates(data, st);
     // The slide rate: the 90th percentile of the intervals that move (above 1 % of the fastest),
     // not of all of them: long holds logged at a fixed rate are most of a stage's intervals.
     const double fastest = rates.empty() ? 0.0 : *std::max_element(rates.begin(), rates.end());
@@ -329,13 +343,9 @@ StageOffsets stage_offsets(const MeasurementFile& data, const Segmentation& seg,
     o.stage = st.stage;
     o.rows = st.end - st.begin;
     o.normal_stress_MPa = st.normal_stress_MPa;
-    std::vector<double> rates;
-    for (std::size_t i = st.begin + 1; i < st.end; ++i) {
-      const double dt = data.rows[i].time_s - data.rows[i - 1].time_s;
-      const double du = std::abs(data.rows[i].shear_disp_mm - data.rows[i - 1].shear_disp_mm);
-      if (dt > 0.0 && du > 0.0) rates.push_back(du / dt);
-    }
-    o.rate_mm_s = percentile(rates, 0.5);
+    std::vector<double> moving = interval_rates(data, st).rates;
+    std::erase(moving, 0.0);
+    o.rate_mm_s = percentile(moving, 0.5);
     if (o.rows == 0) continue;
     for (std::size_t v = 0; v < 2; ++v) {
       double sum = 0.0;

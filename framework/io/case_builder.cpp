@@ -101,9 +101,7 @@ bool active_in(const std::vector<std::string>& stages, const std::string& stage)
 }
 
 std::string quoted_list(const std::vector<std::string>& names) {
-  std::string out;
-  for (const auto& n : names) out += (out.empty() ? "'" : ", '") + n + "'";
-  return out;
+  return join_names(names, [](const std::string& n) { return "'" + n + "'"; });
 }
 
 }  // namespace
