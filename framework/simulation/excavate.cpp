@@ -14,6 +14,9 @@ namespace {
 // as Engine::contact_forces applies them.
 std::map<int, Vec2> released_forces(const Model& m, const std::vector<char>& gone) {
   std::map<int, Vec2> out;
+  // Eigen leaves a default-constructed vector uninitialised, so a gridpoint's sum starts from an
+  // explicit zero (out[g] += f added to whatever the memory held: a gradual release then blew up).
+  const auto add = [&](int g, const Vec2& f) { out.try_emplace(g, Vec2::Zero()).first->second += f; };
   for (const Contact& c : m.contacts.items) {
     const int pb = static_cast<int>(m.gp[c.point].block);
     if (gone[static_cast<std::size_t>(pb)] == gone[static_cast<std::size_t>(c.other)]) continue;
@@ -21,13 +24,13 @@ std::map<int, Vec2> released_forces(const Model& m, const std::vector<char>& gon
     const Vec2 t(c.normal.y(), -c.normal.x());
     const Vec2 f = c.length * (c.response.sigma_n * c.normal - c.response.tau * t);
     if (!gone[static_cast<std::size_t>(pb)]) {
-      out[c.point] += f;
+      add(c.point, f);
       continue;
     }
     const Block& B = m.blocks[static_cast<std::size_t>(c.other)];
     const int n = static_cast<int>(B.boundary.size());
-    out[B.boundary[c.edge]] -= (1.0 - c.s) * f;
-    out[B.boundary[(c.edge + 1) % n]] -= c.s * f;
+    add(B.boundary[c.edge], -(1.0 - c.s) * f);
+    add(B.boundary[(c.edge + 1) % n], -c.s * f);
   }
   return out;
 }
