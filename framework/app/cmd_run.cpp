@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cctype>
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <csignal>
 #include <filesystem>
@@ -21,6 +22,7 @@
 #include "framework/app/cli_contract.hpp"
 #include "framework/core/error.hpp"
 #include "framework/core/interrupt.hpp"
+#include "framework/io/case_reader.hpp"
 #include "framework/io/checkpoint.hpp"
 #include "framework/io/output_folder.hpp"
 #include "framework/io/toml_values.hpp"
@@ -61,8 +63,9 @@ std::string read_text(const std::string& path) {
   return os.str();
 }
 
-// SIGINT/SIGTERM ask the stepping loop to stop after its current chunk of steps (run_case writes
-// the state and histories and throws Interrupted). A second signal ends the process at once.
+// SIGINT/SIGTERM ask the stepping loop to stop at the first contact detection after its current
+// chunk of steps (run_case writes a checkpoint to go on from, the histories and fields, and throws
+// Interrupted). A second signal ends the process at once.
 extern "C" void request_stop(int sig) {
   interrupt_signal().store(sig);
   std::signal(sig, SIG_DFL);
@@ -220,7 +223,8 @@ const CommandRegistrar reg{Command{
       auto restart = std::make_shared<std::string>();
       sub.add_option("--restart", *restart,
                      "continue from a checkpoint of an earlier run of the same case: a stage checkpoint (stage_<n>_<name>.h5), "
-                     "or final_state.h5 with stages added to the case");
+                     "one within a stage (checkpoint_step_<n>.h5, interrupted_state.h5), or final_state.h5 with stages added to "
+                     "the case");
       auto velocity = std::make_shared<std::string>();
       auto mass_dt = std::make_shared<std::string>();
       auto nstages = std::make_shared<int>(0);
@@ -237,13 +241,17 @@ const CommandRegistrar reg{Command{
       sub.add_option("--write-blocks", *write_blocks,
                      "build the model, write its blocks for inspection to this folder (blocks.vtu, traces.vtu, "
                      "blocks.csv) and stop without running");
+      auto checkpoint_every = std::make_shared<std::string>();
+      sub.add_option("--checkpoint-every", *checkpoint_every,
+                     "checkpoints within stages (checkpoint_step_<n>.h5, to --restart from), every \"N steps\" of the run or every "
+                     "wall-clock time such as \"30 min\"; replaces the case's [output] checkpoint_every");
       auto joints = std::make_shared<std::vector<std::string>>();
       sub.add_option("--joint", *joints,
                      "NAME=FILE: the case's [[joints]] entry NAME takes its law, parameters and effects from FILE (a TOML "
                      "table with the keys of a [[joints]] entry, or the JSON of rockdem calibrate/diagnose); where it acts "
                      "stays as in the case; FILE is copied into the output folder (joints/); repeatable");
       return [file, out, use_default, quiet, no_plots, overwrite, restart, velocity, mass_dt, nstages, write_case,
-              write_blocks, joints]() -> int {
+              write_blocks, joints, checkpoint_every]() -> int {
         // Under mpirun every process runs the case (its share of the blocks); process 0 writes.
         const std::unique_ptr<Communication> parallel = make_communication();
         Communication& comm = parallel ? *parallel : serial_communication();
@@ -306,6 +314,7 @@ const CommandRegistrar reg{Command{
           c = *use_default ? load_case_text(kDefaultCaseText, "built-in default case (cases/direct_shear/test09_coulomb.toml)", ".")
                            : load_case(*file, joint_files);
         }
+        if (!checkpoint_every->empty()) read_checkpoint_interval(*checkpoint_every, "--checkpoint-every", c.output);
         // Before any output folder is made: a --write-blocks look at the case shows them too.
         if (comm.root())
           for (const auto& w : c.warnings) std::cerr << "rockdem: warning: " << w << "\n";

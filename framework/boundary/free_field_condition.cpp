@@ -179,13 +179,16 @@ std::vector<double> FreeFieldCondition::saved_state() const {
     const Vec2 h = held_ ? hold_[i] : Vec2::Zero();
     s.insert(s.end(), {n.u.x(), n.u.y(), n.v.x(), n.v.y(), h.x(), h.y()});
   }
+  s.push_back(time_);  // the column's clock: a run resumed within a stage goes on from it
   return s;
 }
 
 void FreeFieldCondition::restore_state(const std::vector<double>& s) {
   if (s.empty()) return;
-  if (s.size() != 1 + 6 * nodes_.size())
+  // Checkpoints written before the column's clock travelled in them hold one value less.
+  if (s.size() != 1 + 6 * nodes_.size() && s.size() != 2 + 6 * nodes_.size())
     throw InputError("checkpoint: the free-field column's state does not match its " + std::to_string(nodes_.size()) + " nodes");
+  if (s.size() == 2 + 6 * nodes_.size()) time_ = s.back();
   held_ = s[0] != 0.0;
   hold_.assign(nodes_.size(), Vec2::Zero());
   for (std::size_t i = 0; i < nodes_.size(); ++i) {

@@ -54,6 +54,9 @@ void keep_completed_part(toml::table& t, std::size_t completed) {
     if (used.empty()) t.erase("motions");  // none played yet: as if the case had none
     else *mo = std::move(used);
   }
+  // When and how many checkpoints a run writes does not change what it computes.
+  if (auto* out = t["output"].as_table())
+    for (const char* k : {"checkpoint_every", "checkpoint_keep", "progress_seconds"}) out->erase(k);
   if (auto* ds = t["direct_shear"].as_table()) {
     auto* shear = (*ds)["shear_stages"].as_array();
     auto* stress = (*ds)["normal_stresses"].as_array();

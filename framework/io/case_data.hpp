@@ -97,6 +97,13 @@ struct OutputSpec {
   long history_interval = 100;  // steps between history samples
   long vtk_interval = 0;        // steps between VTK frames (0: automatic, about 25 per stage)
   double progress_seconds = 2.0;
+  // Checkpoints within stages (checkpoint_step_<n>.h5), at the first contact detection after
+  // every checkpoint_steps steps of the run or checkpoint_seconds of wall-clock time ([output]
+  // checkpoint_every = "N steps" or "30 min"; 0: none); the newest checkpoint_keep of them are
+  // kept (0: all). They do not change the run's results.
+  long checkpoint_steps = 0;
+  double checkpoint_seconds = 0.0;  // wall clock
+  long checkpoint_keep = 3;
 };
 
 struct Case {

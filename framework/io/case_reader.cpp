@@ -1,6 +1,7 @@
 #include "framework/io/case_reader.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 
 #include "framework/core/did_you_mean.hpp"
@@ -836,14 +837,55 @@ DriftInput CaseReader::drift(const toml::table& t) const {
   return d;
 }
 
+void read_checkpoint_interval(const std::string& text, const std::string& where, OutputSpec& o) {
+  const auto last = text.find_last_not_of(' ');
+  const std::string t = text.substr(0, last == std::string::npos ? 0 : last + 1);
+  for (const std::string unit : {" steps", " step"})
+    if (t.size() > unit.size() && t.compare(t.size() - unit.size(), unit.size(), unit) == 0) {
+      const std::string number = t.substr(0, t.size() - unit.size());
+      std::size_t used = 0;
+      long n = 0;
+      try {
+        n = std::stol(number, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used != number.size() || n <= 0)
+        throw InputError(where + ": '" + text + "': the number of steps must be a positive whole number, e.g. \"20000 steps\"");
+      o.checkpoint_steps = n;
+      o.checkpoint_seconds = 0.0;
+      return;
+    }
+  // Otherwise a wall-clock time ("30 min"), not simulated time.
+  double seconds = 0.0;
+  try {
+    seconds = quantity_value(RawValue{text, where}, Dimension::time, where);
+  } catch (const InputError& e) {
+    throw InputError(std::string(e.what()) + "; give \"N steps\" or a wall-clock time such as \"30 min\"");
+  }
+  if (!(seconds > 0.0) || !std::isfinite(seconds))
+    throw InputError(where + ": '" + text + "' must be a positive number of steps (\"20000 steps\") or a wall-clock time (\"30 min\")");
+  o.checkpoint_seconds = seconds;
+  o.checkpoint_steps = 0;
+}
+
 OutputSpec CaseReader::output(const toml::table& t) const {
   const Reader r{file_, base_dir_};
-  r.check_keys(t, "output", {"history_interval", "vtk_interval", "progress_seconds"});
+  r.check_keys(t, "output", {"history_interval", "vtk_interval", "progress_seconds", "checkpoint_every", "checkpoint_keep"});
   OutputSpec o;
   o.history_interval = r.integer(t, "history_interval", "output", 100);
   o.vtk_interval = r.integer(t, "vtk_interval", "output", 0);
   o.progress_seconds = r.quantity(t, "progress_seconds", Dimension::time, "output", 2.0);
   if (o.history_interval <= 0) throw InputError(r.at(*t.get("history_interval"), "output.history_interval") + ": must be positive");
+  if (const toml::node* n = t.get("checkpoint_every")) {
+    const auto text = n->value<std::string>();
+    const std::string where = r.at(*n, "output.checkpoint_every");
+    if (!text) throw InputError(where + ": give a string, \"N steps\" or a wall-clock time such as \"30 min\"");
+    read_checkpoint_interval(*text, where, o);
+  }
+  o.checkpoint_keep = r.integer(t, "checkpoint_keep", "output", 3);
+  if (o.checkpoint_keep < 0)
+    throw InputError(r.at(*t.get("checkpoint_keep"), "output.checkpoint_keep") + ": must be 0 (keep all) or how many to keep");
   return o;
 }
 

@@ -45,4 +45,8 @@ class CaseReader {
   std::string file_, base_dir_;
 };
 
+// A checkpoint interval, "N steps" (of the run) or a wall-clock time ("30 min"), into `o`
+// (replacing both of its intervals); InputError naming `where` otherwise.
+void read_checkpoint_interval(const std::string& text, const std::string& where, OutputSpec& o);
+
 }  // namespace rockdem

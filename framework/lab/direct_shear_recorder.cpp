@@ -74,6 +74,8 @@ void DirectShearRecorder::sample(History& h) {
 std::map<std::string, std::vector<double>> DirectShearRecorder::saved_state() const {
   std::map<std::string, std::vector<double>> a;
   a["lab_record.t0"] = {t0_};
+  // Where the stage under way measures from, for a checkpoint written within it.
+  a["lab_record.stage_reference"] = {static_cast<double>(test_stage_), loader_x0_, normal0_};
   auto& t = a["lab_record.time_s"];
   auto& st = a["lab_record.stage"];
   auto& sd = a["lab_record.shear_disp_mm"];
@@ -105,6 +107,11 @@ void DirectShearRecorder::restore_state(const std::map<std::string, std::vector<
     col[k] = &it->second;
   }
   t0_ = t0->second.at(0);
+  if (const auto ref = a.find("lab_record.stage_reference"); ref != a.end() && ref->second.size() == 3) {
+    test_stage_ = static_cast<int>(ref->second[0]);
+    loader_x0_ = ref->second[1];
+    normal0_ = ref->second[2];
+  }
   record_.rows.clear();
   for (std::size_t i = 0; i < col[0]->size(); ++i)
     record_.rows.push_back(MeasurementRow{(*col[0])[i], static_cast<int>((*col[1])[i]), (*col[5])[i], (*col[2])[i], (*col[3])[i],

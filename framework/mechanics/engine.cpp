@@ -93,11 +93,15 @@ void Engine::sum_energy() {
 
 void Engine::add_condition(std::unique_ptr<BoundaryCondition> bc) { bcs_.push_back(std::move(bc)); }
 
-void Engine::begin_stage(const std::string& name, const Damping& d) {
+void Engine::begin_stage(const std::string& name, const Damping& d, bool resuming) {
   stage_ = name;
   stage_time_ = 0.0;
   damping_ = d;
-  previous_mass_.clear();  // a new stage's masses (its own mass scaling) take no momentum rule
+  // A new stage's masses (its own mass scaling) take no momentum rule: compute_time_step swaps
+  // the last masses into previous_mass_, so it is those that are cleared (clearing previous_mass_
+  // did nothing, and a run restarted from a stage checkpoint, with no masses yet, then differed
+  // from the uninterrupted run wherever a stage start raised masses under moving gridpoints).
+  inertial_mass_.clear();
   for (auto& g : m_.gp) {
     g.fixed_x = g.fixed_y = false;
   }
@@ -116,7 +120,7 @@ void Engine::begin_stage(const std::string& name, const Damping& d) {
   refresh_contacts();
   // A time step forced above the stable one would only blow up a few steps later: refuse it now,
   // with the value that would do.
-  if (s_.fixed_dt > critical_dt_) {
+  if (s_.fixed_dt > critical_dt_ && !resuming) {
     std::ostringstream os;
     os << "[time] fixed_dt = " << s_.fixed_dt << " s is above the stable time step of this model at the start of stage '"
        << name << "', " << critical_dt_ << " s (2 sqrt(m/k) at its stiffest gridpoint or block); give at most "
@@ -392,6 +396,38 @@ void Engine::restore_state(const std::map<std::string, std::vector<double>>& a, 
   energy_scale_ = sc->second[0];
 }
 
+std::map<std::string, std::vector<double>> Engine::saved_stage_state() const {
+  const std::size_t nb = m_.blocks.size();
+  std::vector<double> v(3 * nb, 0.0);
+  for (std::size_t b = 0; b < nb && b < smooth_v_.size(); ++b)
+    if (m_.part.owns(static_cast<int>(b))) {
+      v[3 * b] = smooth_v_[b].x();
+      v[3 * b + 1] = smooth_v_[b].y();
+      v[3 * b + 2] = smooth_w_[b];
+    }
+  // One process holds each block's values and the others zero: the sum is the owner's, exactly.
+  if (comm_.size() > 1) comm_.sum(v.data(), static_cast<int>(v.size()));
+  return {{"engine.stage_clock", {stage_time_}}, {"engine.damping_averages", std::move(v)}};
+}
+
+void Engine::resume_stage(const std::map<std::string, std::vector<double>>& a, const std::string& file) {
+  const auto clock = a.find("engine.stage_clock");
+  const auto avg = a.find("engine.damping_averages");
+  if (clock == a.end() || avg == a.end() || clock->second.size() != 1)
+    throw InputError(file + ": it holds no stage clock (not a checkpoint written within a stage)");
+  const std::size_t nb = m_.blocks.size();
+  if (avg->second.size() != 3 * nb)
+    throw InputError(file + ": its damping state is for " + std::to_string(avg->second.size() / 3) + " blocks, the model has " +
+                     std::to_string(nb));
+  stage_time_ = clock->second[0];
+  smooth_v_.resize(nb);
+  smooth_w_.resize(nb);
+  for (std::size_t b = 0; b < nb; ++b) {
+    smooth_v_[b] = Vec2(avg->second[3 * b], avg->second[3 * b + 1]);
+    smooth_w_[b] = avg->second[3 * b + 2];
+  }
+}
+
 Vec2 Engine::contact_force_on(int block) const {
   return block < static_cast<int>(block_contact_force_.size()) ? block_contact_force_[block] : Vec2::Zero();
 }
@@ -623,12 +659,12 @@ void Engine::integrate() {
   unbalanced_ = unbalanced;  // this process's part; step() sums them
 }
 
-void Engine::run_steps(long n) {
+void Engine::run_steps(long n, bool check_at_end) {
   for (long i = 0; i < n; ++i) {
     step();
     if (m_.step % 1000 == 0) check_state();
   }
-  check_state();
+  if (check_at_end) check_state();
 }
 
 void Engine::check_state() {

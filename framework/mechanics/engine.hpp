@@ -53,10 +53,14 @@ class Engine {
 
   // Start a stage: activates the boundary conditions listed for it, resets the stage clock, detects
   // contacts and computes masses and the time step.
-  void begin_stage(const std::string& name, const Damping& d);
+  // `resuming`: the stage is taken up within, from a checkpoint (its start passed the checks made
+  // here once; a time step forced above the stable one is not refused again mid-stage).
+  void begin_stage(const std::string& name, const Damping& d, bool resuming = false);
   void step();
   // Run `n` steps; stops early with InstabilityError (after keeping the last good state).
-  void run_steps(long n);
+  // `check_at_end` false: the state check that ends every call is left to a later call (a
+  // caller that splits a chunk of steps keeps the checks where the whole chunk has them).
+  void run_steps(long n, bool check_at_end = true);
 
   double dt() const { return dt_; }
   // The inertial mass mass scaling added, as a fraction of the model's mass, at the last refresh
@@ -91,6 +95,19 @@ class Engine {
   // Puts it back (a checkpoint without it leaves the engine as it is); InputError naming `file`
   // when it does not fit.
   void restore_state(const std::map<std::string, std::vector<double>>& a, const std::string& file);
+
+  // Whether the last step ended with a contact detection (or no step has run since one): the
+  // only moments a checkpoint taken within a stage can be resumed from exactly, because a
+  // restarted stage begins with a detection of its own (which, on the same positions and
+  // contacts, finds them again and recomputes the same time step and masses).
+  bool just_refreshed() const { return steps_since_refresh_ == 0; }
+  // What a stage carries from step to step that begin_stage sets afresh: the stage clock and the
+  // damping's running averages, for a checkpoint written within a stage (each block's values from
+  // the process owning it; a collective call when decomposed).
+  std::map<std::string, std::vector<double>> saved_stage_state() const;
+  // After begin_stage of the stage the checkpoint was written in: puts them back. InputError
+  // naming `file` when the checkpoint has none or they do not fit the model.
+  void resume_stage(const std::map<std::string, std::vector<double>>& a, const std::string& file);
 
   const ModelSnapshot& last_good() const { return last_good_; }
   ModelSnapshot snapshot() const;

@@ -19,6 +19,9 @@ class Recorder {
   Recorder(Case& c, const Engine& e, const std::filesystem::path& history_file);
 
   void stage_started(int index, const std::string& name);
+  // A stage resumed from a checkpoint written within it: what it measures from came back with
+  // restore_state.
+  void stage_resumed(int index) { stage_ = index; }
   void sample();
 
   // The samples so far (and the joint test record), for a stage checkpoint; a run restarted from

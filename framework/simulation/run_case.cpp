@@ -16,6 +16,7 @@
 
 #include <unistd.h>
 
+#include "framework/boundary/relax_condition.hpp"
 #include "framework/core/error.hpp"
 #include "framework/core/interrupt.hpp"
 #include "framework/io/case_comparison.hpp"
@@ -63,11 +64,9 @@ CheckpointScalars read_after_excavations(Case& c, const std::string& restart) {
       ++done;
     }
   }
-  if (extra.count("interrupted"))
-    throw InputError(restart + ": the state of an interrupted run, kept for inspection; restarts continue from the end of "
-                     "a stage (the stage_<n>_<name>.h5 files in the same folder)");
   const auto it = extra.find("stages_completed");
-  const double completed = it == extra.end() ? 0.0 : it->second;
+  // Written within a stage: that stage's excavation has been made too.
+  const double completed = (it == extra.end() ? 0.0 : it->second) + (extra.count("within_stage") ? 1.0 : 0.0);
   for (std::size_t k = 0; k < c.stages.size(); ++k)
     if (!c.stages[k].excavate.empty() && (k < done) != (static_cast<double>(k) < completed))
       throw InputError(restart + ": the checkpoint's blocks do not follow this case's excavations (stage '" +
@@ -95,7 +94,7 @@ void check_same_case(const Case& c, const std::string& restart, std::size_t comp
   }
   if (diffs.empty()) return;
   std::string msg = restart + ": this case differs from the one that wrote the checkpoint in " + std::to_string(diffs.size()) +
-                    (diffs.size() == 1 ? " value" : " values") + " that the completed stages ran with:";
+                    (diffs.size() == 1 ? " value" : " values") + " that the stages run so far ran with:";
   for (std::size_t i = 0; i < diffs.size() && i < 8; ++i) msg += "\n    " + diffs[i];
   if (diffs.size() > 8) msg += "\n    ... and " + std::to_string(diffs.size() - 8) + " more";
   msg += "\n  a restart may change or add only the stages still to run (from stage " + std::to_string(completed + 1) +
@@ -107,21 +106,25 @@ void check_same_case(const Case& c, const std::string& restart, std::size_t comp
 
 std::size_t check_restart(const Case& c, const std::string& restart, bool root) {
   const auto extra = read_checkpoint_scalars(restart);
-  if (extra.count("interrupted"))
+  const bool within = extra.count("within_stage") != 0;
+  // An older rockdem kept the state at a signal for inspection only.
+  if (extra.count("interrupted") && !within)
     throw InputError(restart + ": the state of an interrupted run, kept for inspection; restarts continue from the end of "
                      "a stage (the stage_<n>_<name>.h5 files in the same folder)");
   const auto it = extra.find("stages_completed");
-  if (it == extra.end() || it->second < 1 || it->second > static_cast<double>(c.stages.size()))
-    throw InputError(restart + ": not a checkpoint this case can go on from (valid: the stage_<n>_<name>.h5 files and "
-                     "final_state.h5 a run of it writes" +
+  const double lowest = within ? 0.0 : 1.0, highest = static_cast<double>(c.stages.size()) - (within ? 1.0 : 0.0);
+  if (it == extra.end() || it->second < lowest || it->second > highest)
+    throw InputError(restart + ": not a checkpoint this case can go on from (valid: the stage_<n>_<name>.h5, checkpoint_step_<n>.h5, "
+                     "interrupted_state.h5 and final_state.h5 files a run of it writes" +
                      (it != extra.end() && it->second > static_cast<double>(c.stages.size())
                           ? "; this one completed " + std::to_string(static_cast<long>(it->second)) + " stages, the case has " +
                                 std::to_string(c.stages.size())
                           : std::string()) +
                      ")");
   const auto first_stage = static_cast<std::size_t>(it->second);
-  check_same_case(c, restart, first_stage, root);
-  if (first_stage == c.stages.size())
+  // Within a stage, that stage has run in part with the checkpoint's case: it must not change.
+  check_same_case(c, restart, first_stage + (within ? 1 : 0), root);
+  if (!within && first_stage == c.stages.size())
     throw InputError(restart + ": this checkpoint ends the case's last stage ('" + c.stages.back().name +
                      "'); nothing is left to run (add stages to the case to go on from it)");
   return first_stage;
@@ -129,12 +132,33 @@ std::size_t check_restart(const Case& c, const std::string& restart, bool root) 
 
 namespace {
 
+// Where a run resumed within a stage goes on: steps are run in chunks, after each of which the
+// run samples and checks what it must; a checkpoint within a stage is written at a contact
+// detection, which may fall inside a chunk.
+struct StageResume {
+  long chunk_start = 0;  // steps of the stage before the chunk under way
+  long into_chunk = 0;   // steps of that chunk already run
+  long vtk_every = 0;    // the stage's VTK interval (it depends on the time step at its start)
+};
+
 // The stage a run begins with: the first, or after a restart the one following the stages its
-// checkpoint completed (the model state is read back from it).
-std::size_t read_restart(Case& c, const std::string& restart) {
+// checkpoint completed, or the one it was written within (the model state is read back from it).
+std::size_t read_restart(Case& c, const std::string& restart, std::optional<StageResume>& resume) {
   if (restart.empty()) return 0;
   const std::size_t first_stage = check_restart(c, restart, false);  // rockdem run has warned already
-  read_after_excavations(c, restart);
+  const CheckpointScalars extra = read_after_excavations(c, restart);
+  if (extra.count("within_stage")) {
+    const auto get = [&](const char* k) {
+      const auto it = extra.find(k);
+      if (it == extra.end() || !(it->second >= 0.0 && it->second < 1e15))
+        throw InputError(restart + ": its '" + std::string(k) + "' is missing or damaged");
+      return static_cast<long>(it->second);
+    };
+    resume = StageResume{get("stage_chunk_start"), get("stage_into_chunk"), get("stage_vtk_every")};
+    if (resume->into_chunk > 10 || resume->vtk_every < 1 || resume->chunk_start % 10 != 0)
+      throw InputError(restart + ": its place within the stage is damaged (chunk start " + std::to_string(resume->chunk_start) +
+                       ", " + std::to_string(resume->into_chunk) + " steps into it, VTK every " + std::to_string(resume->vtk_every) + ")");
+  }
   return first_stage;
 }
 
@@ -153,8 +177,17 @@ class Progress {
     pending_ = false;
   }
 
-  void restarted(const std::string& restart, std::size_t first_stage) {
-    if (!quiet_) std::cout << "restarting from " << restart << " after stage " << first_stage << " (time " << c_.model.time << " s)\n";
+  void restarted(const std::string& restart, std::size_t first_stage, bool within) {
+    if (quiet_) return;
+    std::cout << "restarting from " << restart << (within ? " within stage " : " after stage ") << first_stage + (within ? 1 : 0)
+              << " (step " << c_.model.step << ", time " << c_.model.time << " s)\n";
+  }
+
+  // A checkpoint written within a stage.
+  void checkpoint_written(const fs::path& path) {
+    if (quiet_) return;
+    end_line();
+    std::cout << "  checkpoint " << path.filename().string() << " (step " << c_.model.step << ")\n";
   }
 
   void run_started(const fs::path& out) {
@@ -162,12 +195,15 @@ class Progress {
     if (!quiet_) std::cout << "rockdem: " << c_.title << "\n  case: " << c_.file << "\n  output: " << out.string() << "\n";
   }
 
-  void stage_started(const Engine& e, const StageRunner& stage, std::size_t index, long contacts) {
+  void stage_started(const Engine& e, const StageRunner& stage, std::size_t index, long contacts, bool resumed) {
     if (quiet_) return;
     end_line();
     const StageSpec& st = stage.spec();
     stage_label_ = st.name + " " + std::to_string(index + 1) + "/" + std::to_string(c_.stages.size());
-    std::cout << "stage " << index + 1 << "/" << c_.stages.size() << " '" << st.name << "': time step " << e.dt() << " s, "
+    std::cout << "stage " << index + 1 << "/" << c_.stages.size() << " '" << st.name << "'"
+              << (resumed ? " resumed at step " + std::to_string(c_.model.step) + " (stage time " + std::to_string(e.stage_time()) + " s)"
+                          : std::string())
+              << ": time step " << e.dt() << " s, "
               << (st.until == StageSpec::Until::equilibrium ? "until equilibrium" : std::to_string(stage.planned_steps()) + " steps")
               << ", " << contacts << " contacts";
     if (e.added_mass_fraction() > 0.0) std::cout << ", masses scaled (+" << 100.0 * e.added_mass_fraction() << " % of the model's)";
@@ -235,11 +271,22 @@ struct Run {
   Progress& progress;
   Communication& comm;
   DriftResults* drift = nullptr;  // [drift]: the study's results at every stage end
+  // Within the stage under way: its excavation relax (if any), and a checkpoint or a signal waiting
+  // for the next contact detection.
+  RelaxCondition* relax = nullptr;
+  bool checkpoint_due = false;
+  int signal = 0;
+  long signal_wait = 0;  // steps run since the signal
+  long last_checkpoint_step = 0;
+  Clock::time_point last_checkpoint_wall = Clock::now();
+  std::vector<fs::path> checkpoints;  // written by this run, oldest first
   bool root() const { return comm.root(); }
 };
 
 // Runs `write` on process 0 with the whole model's state current there (a decomposed run collects
 // it first and then goes back to stepping with its own contacts); a serial run just writes.
+// A write that fails on process 0 (a full disk) is raised on every process, so that none goes
+// on stepping and waits for process 0 in the next exchange.
 template <class F>
 void with_whole_model(Run& r, F&& write) {
   if (!r.c.model.part.decomposed()) {
@@ -248,9 +295,24 @@ void with_whole_model(Run& r, F&& write) {
   }
   std::vector<Contact> local;
   r.comm.collect(r.c.model, 0, &local);
-  if (!r.root()) return;
-  write();
-  r.c.model.contacts.restore(std::move(local));
+  std::string error;
+  bool input_error = false;
+  if (r.root()) {
+    try {
+      write();
+    } catch (const InputError& e) {
+      error = e.what();
+      input_error = true;
+    } catch (const std::exception& e) {
+      error = e.what();
+    }
+    r.c.model.contacts.restore(std::move(local));
+  }
+  const bool input = r.comm.max(input_error ? 1.0 : 0.0) > 0.0;
+  error = r.comm.first_message(error);
+  if (error.empty()) return;
+  if (input) throw InputError(error);
+  throw std::runtime_error(error);
 }
 
 // Contacts in the whole model (each counted by the process owning its point).
@@ -326,44 +388,141 @@ void write_stage_motions(const Run& r, std::size_t index) {
 // A checkpoint a restart continues from, after `completed` stages: the model, what the boundary
 // conditions and the engine carry between steps, the histories and records so far, and the case.
 // At a stage's end the drift results take that stage's row first (on the whole model).
-void write_restartable(Run& r, const fs::path& path, std::size_t completed, bool stage_end) {
+// `within`: written within stage `completed` + 1 (what it carries from step to step goes too).
+void write_restartable(Run& r, const fs::path& path, std::size_t completed, bool stage_end,
+                       const StageResume* within = nullptr, bool interrupted = false) {
   CheckpointArrays engine_state = r.engine.saved_state();  // collective
+  if (within) engine_state.merge(r.engine.saved_stage_state());  // collective
   with_whole_model(r, [&] {
     if (stage_end && r.drift) r.drift->stage_ended(r.c.model, completed - 1, r.engine.unbalanced_ratio());
     CheckpointArrays arrays = condition_states(r.engine);
     arrays.merge(engine_state);
     arrays.merge(r.rec.saved_state());
     if (r.drift) arrays.merge(r.drift->saved_state());
-    write_checkpoint(r.c.model, path.string(), {{"stages_completed", static_cast<double>(completed)}}, arrays,
-                     {{"case_toml", r.c.source_toml}});
+    CheckpointScalars scalars{{"stages_completed", static_cast<double>(completed)}};
+    if (within) {
+      scalars.insert({{"within_stage", 1.0},
+                      {"stage_chunk_start", static_cast<double>(within->chunk_start)},
+                      {"stage_into_chunk", static_cast<double>(within->into_chunk)},
+                      {"stage_vtk_every", static_cast<double>(within->vtk_every)}});
+      if (interrupted) scalars["interrupted"] = 1.0;
+      if (r.relax) arrays["stage.relax"] = r.relax->progress();
+    }
+    write_checkpoint(r.c.model, path.string(), scalars, arrays, {{"case_toml", r.c.source_toml}});
   });
+}
+
+// A checkpoint asked for within a stage ([output] checkpoint_every, "N steps" or wall-clock, or
+// at a signal), written now that the engine has just detected contacts. The newest
+// [output] checkpoint_keep of this run's are kept. A signal then ends the run (Interrupted).
+void write_pending(Run& r, std::size_t index, long chunk_start, long into_chunk, long vtk_every) {
+  const StageResume at{chunk_start, into_chunk, vtk_every};
+  if (r.signal) {
+    write_restartable(r, r.out / "interrupted_state.h5", index, false, &at, true);
+    throw Interrupted(r.signal, "");
+  }
+  const fs::path path = r.out / ("checkpoint_step_" + std::to_string(r.c.model.step) + ".h5");
+  write_restartable(r, path, index, false, &at);
+  r.checkpoint_due = false;
+  r.last_checkpoint_step = r.c.model.step;
+  r.last_checkpoint_wall = Clock::now();
+  r.progress.checkpoint_written(path);
+  if (!r.root()) return;
+  r.checkpoints.push_back(path);
+  const auto keep = static_cast<std::size_t>(r.c.output.checkpoint_keep);
+  while (keep > 0 && r.checkpoints.size() > keep) {
+    std::error_code ec;
+    fs::remove(r.checkpoints.front(), ec);
+    r.checkpoints.erase(r.checkpoints.begin());
+  }
+}
+
+// After a chunk of steps: whether a checkpoint within the stage is due (the same answer on every
+// process: the wall clock is process 0's).
+bool checkpoint_due(Run& r) {
+  const OutputSpec& o = r.c.output;
+  bool due = o.checkpoint_steps > 0 && r.c.model.step - r.last_checkpoint_step >= o.checkpoint_steps;
+  if (o.checkpoint_seconds > 0.0) {
+    const double since = std::chrono::duration<double>(Clock::now() - r.last_checkpoint_wall).count();
+    double wall = r.root() && since >= o.checkpoint_seconds ? 1.0 : 0.0;
+    if (r.c.model.part.decomposed()) wall = r.comm.max(wall);
+    due = due || wall > 0.0;
+  }
+  return due;
 }
 
 // The checkpoint at the end of a stage (<out>/stage_<n>_<name>.h5).
 void write_stage_checkpoint(Run& r, std::size_t index) {
   write_restartable(r, r.out / ("stage_" + std::to_string(index + 1) + "_" + r.c.stages[index].name + ".h5"), index + 1, true);
+  // A checkpoint within the next stage counts its interval from here.
+  r.last_checkpoint_step = r.c.model.step;
+  r.last_checkpoint_wall = Clock::now();
 }
 
-void run_stage(Run& r, const StageJointModels& joints, std::size_t index) {
+// `resume`: the stage is taken up from a checkpoint written within it (`restart`): its
+// excavation was made before, its relax, clock and the conditions' state come from the file.
+void run_stage(Run& r, const StageJointModels& joints, std::size_t index, const StageResume* resume = nullptr,
+               const std::string& restart = "") {
   // A stage starts from the whole model's state on every process: an excavation removes blocks
   // and relaxes the forces of their contacts, and boundaries that hold their static reactions
   // take them from the forces of every block they touch.
   if (r.c.model.part.decomposed()) r.comm.collect(r.c.model, -1);
   std::unique_ptr<BoundaryCondition> relax;
-  excavate(r.c, r.engine.conditions(), r.c.stages[index], &relax);
+  CheckpointArrays saved;
+  if (resume) {
+    saved = read_checkpoint_arrays(restart);
+    if (const auto it = saved.find("stage.relax"); it != saved.end()) {
+      auto rc = RelaxCondition::from_progress(it->second, r.c.model.gp.size());
+      rc->stages = {r.c.stages[index].name};
+      relax = std::move(rc);
+    }
+  } else {
+    excavate(r.c, r.engine.conditions(), r.c.stages[index], &relax);
+  }
+  r.relax = relax ? static_cast<RelaxCondition*>(relax.get()) : nullptr;
   if (relax) r.engine.add_condition(std::move(relax));
-  const StageRunner stage(r.c, r.engine, joints, index);
+  const StageRunner stage(r.c, r.engine, joints, index, resume != nullptr);
+  if (resume) {
+    // The stage's setup began the column clocks and the like afresh: where they were comes back.
+    restore_condition_states(r.engine, restart);
+    r.engine.resume_stage(saved, restart);
+  }
   write_stage_motions(r, index);
-  r.rec.stage_started(static_cast<int>(index) + 1, stage.spec().name);
-  const long vtk_every = r.c.output.vtk_interval > 0 ? r.c.output.vtk_interval : std::max(100L, stage.planned_steps() / 25);
-  r.progress.stage_started(r.engine, stage, index, contact_count(r));
-  write_vtk(r);
-  r.rec.sample();
+  if (resume) r.rec.stage_resumed(static_cast<int>(index) + 1);
+  else r.rec.stage_started(static_cast<int>(index) + 1, stage.spec().name);
+  const long vtk_every = resume ? resume->vtk_every
+                         : r.c.output.vtk_interval > 0 ? r.c.output.vtk_interval
+                                                       : std::max(100L, stage.planned_steps() / 25);
+  r.progress.stage_started(r.engine, stage, index, contact_count(r), resume != nullptr);
+  if (!resume) {  // a resumed stage's first frame and sample were written by the run it continues
+    write_vtk(r);
+    r.rec.sample();
+  }
   r.progress.stepping_started();
   const long chunk = 10;
   auto last_flush = Clock::now();
-  for (long n = 0; !stage.done(n);) {
-    r.engine.run_steps(chunk);
+  long n = resume ? resume->chunk_start : 0;  // steps of the stage before the chunk under way
+  long into = resume ? resume->into_chunk : 0;
+  // A resumed chunk is run to its end before the stage's end condition is asked again, as the
+  // uninterrupted run did.
+  for (bool resumed = resume != nullptr; resumed || !stage.done(n); resumed = false) {
+    long left = chunk - into;
+    // A checkpoint or a signal waits for a contact detection (the next is at most [time]
+    // refresh_interval steps away), so that a run restarted from it repeats this one exactly.
+    if ((r.checkpoint_due || r.signal) && r.engine.just_refreshed() && !resumed) write_pending(r, index, n, chunk - left, vtk_every);
+    // Single steps without the state check a whole chunk ends with, which the last call makes
+    // (run_steps(0) only checks): the checks fall where a run without checkpoints has them.
+    while ((r.checkpoint_due || r.signal) && left > 0) {
+      r.engine.run_steps(1, false);
+      --left;
+      // A detection is at most [time] refresh_interval steps away; a signal does not wait for more
+      // than 1,000 (a very long interval): then it makes one, and the restart repeats this run
+      // from there, not the run without the signal.
+      if (r.signal && ++r.signal_wait >= 1000 && !r.engine.just_refreshed()) r.engine.refresh_contacts();
+      if (r.engine.just_refreshed()) write_pending(r, index, n, chunk - left, vtk_every);
+    }
+    r.engine.run_steps(left);
+    into = 0;
     n += chunk;
     if (n % r.c.output.history_interval < chunk) r.rec.sample();
     if (n % vtk_every < chunk) write_vtk(r);
@@ -374,10 +533,12 @@ void run_stage(Run& r, const StageJointModels& joints, std::size_t index) {
       r.rec.flush();
       last_flush = Clock::now();
     }
+    if (!r.checkpoint_due) r.checkpoint_due = checkpoint_due(r);
     // Every process stops at the same step (a signal may reach them a little apart).
     const int sig = r.c.model.part.decomposed() ? static_cast<int>(r.comm.max(interrupt_signal().load())) : interrupt_signal().load();
-    if (sig) throw Interrupted(sig, "");
+    if (sig) r.signal = sig;
   }
+  r.relax = nullptr;
   if (!stage.unconverged().empty() && r.comm.root()) {
     r.progress.end_line();
     std::cerr << "rockdem: warning: " << stage.unconverged() << "\n";
@@ -408,30 +569,23 @@ InstabilityError stopped_unstable(Run& r, const InstabilityError& e) {
                           ") written to " + path + " and " + (r.out / "vtk").string() + record);
 }
 
-// After SIGINT/SIGTERM (between two chunks of steps): writes the state reached, the histories so
-// far and the joint record so far, and returns the error to throw, saying how to go on.
+// After SIGINT/SIGTERM, once the state reached has been written as a checkpoint to go on from
+// (interrupted_state.h5, at the first contact detection after the signal: write_pending): the
+// fields there, the histories and the joint record so far; returns the error to throw, saying
+// how to go on.
 Interrupted stopped_by_signal(Run& r, int sig, std::size_t stage_index) {
   r.progress.end_line();
   const auto path = (r.out / "interrupted_state.h5").string();
-  with_whole_model(r, [&] {
-    write_checkpoint(r.c.model, path, {{"stages_completed", static_cast<double>(stage_index)}, {"interrupted", 1.0}});
-    r.vtk.write(r.c.model);
-  });
+  // No VTK frame here: a restart from the checkpoint writes the series on, and one more frame
+  // would make it differ from the uninterrupted run's (the state is in the checkpoint).
   r.rec.close();
   if (DirectShearRecorder* ds = r.rec.direct_shear(); ds && r.root()) ds->write_incomplete(r.out);
-  // Restarts continue from the end of a stage (read_restart), so the way on is the last stage
-  // checkpoint; the interrupted state is kept for inspection.
-  std::string how;
-  if (stage_index == 0) {
-    how = "no stage was completed; run the case again to start over";
-  } else {
-    const std::string cp = (r.out / ("stage_" + std::to_string(stage_index) + "_" + r.c.stages[stage_index - 1].name + ".h5")).string();
-    how = "to go on from the last completed stage, run the same case again with --out " + r.out.string() + " --restart " + cp;
-  }
   return Interrupted(sig, std::string(sig == 2 ? "interrupted (SIGINT)" : "terminated (SIGTERM)") + " at step " +
                               std::to_string(r.c.model.step) + " (time " + std::to_string(r.c.model.time) + " s) in stage " +
                               std::to_string(stage_index + 1) + " '" + r.c.stages[stage_index].name + "'; state written to " +
-                              path + ", histories so far in " + r.out.string() + "\n  " + how);
+                              path + ", histories so far in " + r.out.string() +
+                              "\n  to go on from there, run the same case again with --out " + r.out.string() + " --restart " + path +
+                              " (or with another --out)");
 }
 
 // The outputs of a completed run, its summary and its result.
@@ -453,7 +607,8 @@ RunResult finish(Run& r) {
 RunResult run_case(Case& c, const fs::path& out, bool quiet, const std::string& restart, Communication& comm) {
   if (comm.root()) fs::create_directories(out);
   quiet = quiet || !comm.root();
-  const std::size_t first_stage = read_restart(c, restart);
+  std::optional<StageResume> resume;
+  const std::size_t first_stage = read_restart(c, restart, resume);
   const StageJointModels joints(c);
   if (first_stage < c.stages.size()) joints.put_in_force(c, first_stage);
   Engine engine(c.model, c.settings, comm);
@@ -470,7 +625,7 @@ RunResult run_case(Case& c, const fs::path& out, bool quiet, const std::string& 
     rec.restore_state(saved, restart);
     restore_condition_states(engine, restart);
     vtk.resume(c.model.time);
-    progress.restarted(restart, first_stage);
+    progress.restarted(restart, first_stage, resume.has_value());
   }
   std::optional<DriftResults> drift;
   if (c.drift.enabled) {
@@ -478,7 +633,7 @@ RunResult run_case(Case& c, const fs::path& out, bool quiet, const std::string& 
     if (!restart.empty()) drift->restore_state(read_checkpoint_arrays(restart), first_stage);
   }
   progress.run_started(out);
-  Run r{c, out, engine, rec, vtk, progress, comm, drift ? &*drift : nullptr};
+  Run r{c, out, engine, rec, vtk, progress, comm, drift ? &*drift : nullptr, nullptr, false, 0, 0, c.model.step, Clock::now(), {}};
   // A restart reads the state the field started; a new run starts from the field.
   if (restart.empty() && c.in_situ) {
     const InSituReport rep = initialise_in_situ(c.model, *c.in_situ, c.settings.detection);
@@ -497,7 +652,7 @@ RunResult run_case(Case& c, const fs::path& out, bool quiet, const std::string& 
   }
   std::size_t si = first_stage;
   try {
-    for (; si < c.stages.size(); ++si) run_stage(r, joints, si);
+    for (; si < c.stages.size(); ++si) run_stage(r, joints, si, si == first_stage && resume ? &*resume : nullptr, restart);
   } catch (const InstabilityError& e) {
     throw stopped_unstable(r, e);
   } catch (const Interrupted& e) {
@@ -506,6 +661,8 @@ RunResult run_case(Case& c, const fs::path& out, bool quiet, const std::string& 
     progress.end_line();  // the error message starts on a line of its own
     throw;
   }
+  // A signal that came in the last chunks of the run found no step left to stop at.
+  if (r.signal && !quiet) std::cout << "rockdem: the signal came as the run ended; its results are complete\n";
   const std::string spent = comm.time_report();
   progress.end_line();
   if (!quiet && !spent.empty()) std::cout << spent << "\n";

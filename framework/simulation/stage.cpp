@@ -14,7 +14,7 @@ void StageJointModels::put_in_force(Case& c, std::size_t stage) const {
     for (const auto& [index, model] : c.stages[s].joint_models) c.model.contacts.models[static_cast<std::size_t>(index)] = model;
 }
 
-StageRunner::StageRunner(Case& c, Engine& e, const StageJointModels& joints, std::size_t index)
+StageRunner::StageRunner(Case& c, Engine& e, const StageJointModels& joints, std::size_t index, bool resuming)
     : st_(c.stages[index]), e_(e) {
   joints.put_in_force(c, index);
   e.set_mass_scaling_dt(st_.mass_scaling_dt.value_or(c.settings.mass_scaling_dt));
@@ -24,7 +24,7 @@ StageRunner::StageRunner(Case& c, Engine& e, const StageJointModels& joints, std
   for (const auto& m : st_.motions) played.push_back({c.motions[static_cast<std::size_t>(m.index)].get(), m.factor});
   for (const auto& bc : e.conditions())
     if (bc->active_in(st_.name)) bc->set_motions(played);
-  e.begin_stage(st_.name, st_.damping);
+  e.begin_stage(st_.name, st_.damping, resuming);
   duration_ = st_.duration;
   if (st_.until == StageSpec::Until::duration && st_.auto_duration) {
     duration_ = 0.0;

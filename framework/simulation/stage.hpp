@@ -28,7 +28,8 @@ class StageRunner {
   // Starts stage `index`: puts its joint models in force, begins the engine's stage (conditions,
   // contacts, time step) and finds its duration and planned steps. Throws InputError for
   // duration = "auto" without a finite velocity history active in the stage.
-  StageRunner(Case& c, Engine& e, const StageJointModels& joints, std::size_t index);
+  // `resuming`: taken up within the stage from a checkpoint (Engine::begin_stage).
+  StageRunner(Case& c, Engine& e, const StageJointModels& joints, std::size_t index, bool resuming = false);
 
   const StageSpec& spec() const { return st_; }
   // Steps the stage is planned to take (for `equilibrium`, its cap max_steps).

@@ -57,11 +57,19 @@ grep -q '"restart_from": ".*stage_1_settle.h5"' "$tmp/b/manifest.json" && grep -
 expect restart_foreign_folder 2 run "$incline" --out "$tmp/mine" --restart "$tmp/b/stage_1_settle.h5" --quiet -- "manifest.json"
 
 # --- 4. SIGINT / SIGTERM ------------------------------------------------------------------------
-# The built-in direct-shear case runs for about a minute: signalled one second into its second
-# stage (after its first stage checkpoint), it must stop within seconds.
+# The built-in direct-shear case with a 5 mm stroke instead of 40 (about 15 s; this test also runs
+# under the sanitizers): signalled one second into its second stage (after its first stage
+# checkpoint), it must stop within seconds, leaving a checkpoint (interrupted_state.h5) that a
+# restart goes on from as if nothing had happened: the SIGINT run, restarted in its own folder,
+# ends with the uninterrupted run's history and test09.csv.
+short="$tmp/short_stroke.toml"
+sed 's/amplitude = "40 mm"/amplitude = "5 mm"/' "$src/cases/direct_shear/test09_coulomb.toml" > "$short"
+grep -q 'amplitude = "5 mm"' "$short" || { echo "FAIL the short-stroke case was not made"; fail=1; }
+"$bin" run "$short" --out "$tmp/sig_none" --quiet > "$tmp/sig_none.log" 2>&1 &
+uninterrupted=$!
 for sig in INT TERM; do
   want=$([ $sig = INT ] && echo 130 || echo 143)
-  "$bin" run --default --out "$tmp/sig_$sig" --quiet > "$tmp/sig_$sig.log" 2>&1 &
+  "$bin" run "$short" --out "$tmp/sig_$sig" --quiet > "$tmp/sig_$sig.log" 2>&1 &
   pid=$!
   for _ in $(seq 1 1200); do [ -f "$tmp/sig_$sig/stage_1_consolidate.h5" ] && break; sleep 0.1; done
   sleep 1
@@ -72,7 +80,7 @@ for sig in INT TERM; do
   if [ $code -ne $want ]; then
     echo "FAIL SIG$sig: exit $code, wanted $want: $out"; fail=1; continue
   fi
-  for w in "interrupted_state.h5" "--restart $tmp/sig_$sig/stage_1_consolidate.h5"; do
+  for w in "interrupted_state.h5" "--restart $tmp/sig_$sig/interrupted_state.h5"; do
     grep -qF -- "$w" <<<"$out" || { echo "FAIL SIG$sig: message lacks '$w': $out"; fail=1; }
   done
   /usr/bin/python3 - "$tmp/sig_$sig" $want <<'PY' || fail=1
@@ -88,8 +96,18 @@ print("ok   signal: exit %d, history readable (%d samples to t = %.4f s), interr
 PY
   echo "     $(tail -n 1 <<<"$out")"
 done
-expect restart_from_interrupted_refused 2 run --default --out "$tmp/sig_INT" --restart "$tmp/sig_INT/interrupted_state.h5" --quiet -- \
-  "interrupted run" "stage_<n>_<name>.h5"
+expect restart_from_interrupted 0 run "$short" --out "$tmp/sig_INT" --restart "$tmp/sig_INT/interrupted_state.h5" -- \
+  "within stage 2" "resumed at step"
+wait $uninterrupted || { echo "FAIL the uninterrupted default run: exit $?"; fail=1; }
+/usr/bin/python3 - "$tmp/sig_none" "$tmp/sig_INT" <<'PY' || fail=1
+import sys, filecmp, h5py, numpy as np
+a, b = sys.argv[1:3]
+A, B = (h5py.File(d + "/history.h5", "r", locking=False)["history"] for d in (a, b))
+bad = [n for n in A if n not in B or not np.array_equal(A[n][()], B[n][()], equal_nan=True)]
+same_csv = filecmp.cmp(a + "/test09.csv", b + "/test09.csv", shallow=False)
+if bad or not same_csv: print("FAIL restarted after SIGINT: differs from the uninterrupted run:", bad, "test09.csv same:", same_csv); sys.exit(1)
+print("ok   restarted after SIGINT from interrupted_state.h5: history (%d samples) and test09.csv identical to the uninterrupted run's" % len(A["time"]))
+PY
 
 # --- 3b. result files are never silently replaced ----------------------------------------------
 # Every command's --out FILE, --json and --save-model: an existing file is refused before the work

@@ -6,7 +6,8 @@
 # energy), which may differ in the last digits (relative 1e-12) because the partial sums are
 # added in another order. The cases: a collapsing jointed face, an excavation in deformable
 # jointed rock, the direct-shear specimen, two blocks (more processes than blocks) and an
-# earthquake through a compliant base with free-field sides (held reactions, energy balance). Also: a restart from a checkpoint of a 2-process run on 3 processes,
+# earthquake through a compliant base with free-field sides (held reactions, energy balance). Also: a restart from a checkpoint of a 2-process run on 3 processes
+# (at a stage end, and within the free-field earthquake),
 # bad input under mpirun, and the case of more processes than blocks.
 # Usage: bash parallel_equivalence.sh <rockdem-binary> <source-dir>
 set -u
@@ -95,6 +96,22 @@ if timeout 600 mpirun -np 3 "$bin" run "$src/tests/cli/parallel/rock_mass.toml" 
   else echo "FAIL restart on 3 processes:"; echo "$r"; fail=1; fi
 else
   echo "FAIL restart on 3 processes: exit $?"; tail -5 "$tmp/restart.log"; fail=1
+fi
+
+# A restart within a stage on another process count: the free-field earthquake on 2 processes
+# with checkpoints during the shaking (they change nothing), continued on 3 processes from one of
+# them, ends where the uninterrupted serial run ends (the columns' motion and clock, the held
+# reactions, the energy terms and the damping state all come back).
+ff="$src/cases/verification/free_field/column.toml"
+if timeout 600 mpirun -np 2 "$bin" run "$ff" --out "$tmp/ffck" --quiet --no-plots --checkpoint-every "5000 steps" >"$tmp/ffck.log" 2>&1; then
+  if r=$(compare "$tmp/free_field-1" "$tmp/ffck"); then echo "ok   free field on 2 processes with checkpoints within the shaking: $r"
+  else echo "FAIL free field with checkpoints:"; echo "$r"; fail=1; fi
+  k=$(ls "$tmp/ffck" | grep '^checkpoint_step_' | sort -t_ -k3 -n | head -1)
+  if [ -n "$k" ] && timeout 600 mpirun -np 3 "$bin" run "$ff" --out "$tmp/ffck" --quiet --no-plots --restart "$tmp/ffck/$k" >"$tmp/ffr.log" 2>&1 &&
+     r=$(compare "$tmp/free_field-1" "$tmp/ffck"); then echo "ok   restart within the shaking ($k of a 2-process run) on 3 processes: $r"
+  else echo "FAIL restart within the shaking on 3 processes ($k):"; echo "${r:-}"; tail -5 "$tmp/ffr.log"; fail=1; fi
+else
+  echo "FAIL free field with checkpoints on 2 processes: exit $?"; tail -5 "$tmp/ffck.log"; fail=1
 fi
 
 # Bad input under mpirun: non-zero exit, the message once.

@@ -12,6 +12,13 @@
 #  4. refused, exit 2, with the differing key named: a changed joint stiffness; a changed
 #     completed stage; final_state.h5 of a case with nothing left to run. Accepted: a changed
 #     stage still to run.
+#  5. checkpoints within stages (--checkpoint-every, [output] checkpoint_every/_keep): they change
+#     nothing in the run; a restart from any of them repeats the rest of the run bit for bit (final
+#     state, history, joint record, drift results): the incline (a checkpoint inside a chunk of
+#     steps), the seismic column during its shaking (compliant base, energy balance), test 8 within
+#     a shear stage, and an excavation with a gradual release (relax) on a jointed rock mass with
+#     drift results; into its own folder; the stage under way may not change, a later one may;
+#     bad checkpoint intervals refused.
 # Usage: bash run_restart.sh <rockdem-binary> <source-dir>
 set -u
 bin=$1
@@ -101,4 +108,129 @@ expect nothing_left_refused 2 run "$incline" --out "$tmp/none" --restart "$tmp/f
   "ends the case's last stage" "nothing is left to run"
 expect other_case_refused 2 run "$src/cases/direct_shear/test09_coulomb.toml" --out "$tmp/other" --restart "$tmp/full/stage_1_settle.h5" --quiet -- \
   "stage_1_settle.h5: this case differs"
+
+# --- 5. checkpoints within stages -----------------------------------------------------------------
+# same_state A B: the final states (every dataset but the block names) are equal, bit for bit.
+same_state() {
+  "$py" - "$1/final_state.h5" "$2/final_state.h5" <<'PY'
+import sys, h5py
+a, b = (h5py.File(f, "r", locking=False) for f in sys.argv[1:3])
+bad = []
+for g in ("gridpoints", "zones", "blocks", "contacts"):
+    for n in a[g]:
+        if n != "name" and (n not in b[g] or a[g][n][()].tobytes() != b[g][n][()].tobytes()): bad.append(g + "/" + n)
+if bad: print("  final state differs in", bad); sys.exit(1)
+PY
+}
+# restart_each DIR CASE ARGS...: restarts CASE from every checkpoint_step_*.h5 in DIR into a new
+# folder and compares final state and history with DIR's; prints how many matched.
+restart_each() {
+  local dir=$1 case_file=$2 n=0 k
+  shift 2
+  for k in "$dir"/checkpoint_step_*.h5; do
+    local r="$dir-r$(basename "$k" .h5)"
+    # (messages to standard error: standard output is the count)
+    "$bin" run "$case_file" --out "$r" --restart "$k" --quiet --no-plots "$@" >"$r.log" 2>&1 || { echo "     restart from $k: exit $?: $(tail -2 "$r.log")" >&2; continue; }
+    if same_state "$dir" "$r" >/dev/null && same_history "$dir" "$r" >/dev/null; then n=$((n + 1)); else echo "     restart from $k: differs" >&2; fi
+  done
+  echo $n
+}
+"$bin" run "$incline" --out "$tmp/ck" --checkpoint-every "1000 steps" > "$tmp/ck.log" || bad "incline with checkpoints: exit $?"
+same_state "$tmp/full" "$tmp/ck" && same_history "$tmp/full" "$tmp/ck" >/dev/null &&
+  ok "incline: checkpoints within stages change nothing in the run (final state, history)" || bad "incline: the checkpoints changed the run"
+# The newest three of those the run wrote (its progress lines name each) are kept.
+kept=$(ls "$tmp/ck" | grep '^checkpoint_step_.*\.h5$' | sort | tr '\n' ' ')
+newest=$(grep -o 'checkpoint_step_[0-9]*\.h5' "$tmp/ck.log" | tail -3 | sort | tr '\n' ' ')
+written=$(grep -c 'checkpoint_step_' "$tmp/ck.log")
+[ "$written" -gt 3 ] && [ "$kept" = "$newest" ] && ok "incline: of $written checkpoints written the newest 3 kept (checkpoint_keep's default)" ||
+  bad "incline: kept '$kept', the newest 3 written '$newest' ($written written)"
+# One falls inside a chunk of steps (its step is no multiple of 10: at a contact detection).
+inside=$("$py" -c "
+import glob, h5py
+print(sum(1 for f in glob.glob('$tmp/ck/checkpoint_step_*.h5') if h5py.File(f, 'r', locking=False)['extra'].attrs['stage_into_chunk'] > 0))")
+m=$(restart_each "$tmp/ck" "$incline" | tail -1)
+[ "$m" = 3 ] && [ "$inside" -ge 1 ] && ok "incline restarted from each of its 3 checkpoints ($inside inside a chunk): final state and history bit for bit" ||
+  bad "incline restarts from checkpoints within stages: $m of 3 identical, $inside inside a chunk"
+# Into its own folder: the earlier run's files set aside, the history whole again.
+k=$(ls "$tmp/ck" | grep '^checkpoint_step_' | sort -t_ -k3 -n | head -1)
+cp -r "$tmp/ck" "$tmp/ckown"
+"$bin" run "$incline" --out "$tmp/ckown" --restart "$tmp/ckown/$k" --quiet || bad "restart into its own folder from $k: exit $?"
+same_history "$tmp/full" "$tmp/ckown" >/dev/null && [ -f "$tmp/ckown/before_restart_1/history.h5" ] && [ -f "$tmp/ckown/$k" ] &&
+  ok "incline restarted into its own folder from $k: history whole, the earlier run's set aside" || bad "incline restarted into its own folder from $k"
+
+# The seismic column: checkpoints during the shaking (the case's own [output] keys, all kept;
+# its motion file named with an absolute path in the copy).
+colck="$tmp/column_ck.toml"
+sed -e 's/^\[output\]/[output]\ncheckpoint_every = "3000 steps"\ncheckpoint_keep = 0/' \
+    -e "s|^file = \"\.\./\.\./data/|file = \"$(cd "$src" && pwd)/cases/data/|" "$column" > "$colck"
+"$bin" run "$colck" --out "$tmp/colck" --quiet --no-plots || bad "column with checkpoints: exit $?"
+same_history "$tmp/col" "$tmp/colck" >/dev/null || bad "column: the checkpoints changed the run"
+shake=$("$py" -c "
+import glob, h5py
+print(sum(1 for f in glob.glob('$tmp/colck/checkpoint_step_*.h5') if h5py.File(f, 'r', locking=False)['extra'].attrs['stages_completed'] == 0))")
+# Restarted with the case without those keys: they do not count as a difference.
+sed -e '/^checkpoint_every = "3000 steps"$/d' -e '/^checkpoint_keep = 0$/d' "$colck" > "$tmp/column_plain.toml"
+m=$(restart_each "$tmp/colck" "$tmp/column_plain.toml" | tail -1)
+all=$(ls "$tmp/colck" | grep -c '^checkpoint_step_')
+[ "$m" = "$all" ] && [ "$shake" -ge 3 ] && ok "seismic column restarted from each of $all checkpoints ($shake during the shaking): energy balance and every history bit for bit" ||
+  bad "seismic column: $m of $all restarts identical ($shake during the shaking)"
+
+# Within the shaking, the stage after it may change.
+sed 's/^duration = "0.5 s"/duration = "0.2 s"/' "$tmp/column_plain.toml" > "$tmp/column_later.toml"
+kc=$(ls "$tmp/colck" | grep '^checkpoint_step_' | sort -t_ -k3 -n | head -1)
+expect within_later_stage_changed_accepted 0 run "$tmp/column_later.toml" --out "$tmp/w2" --restart "$tmp/colck/$kc" --no-plots -- \
+  "restarting from" "within stage 1" "resumed at step"
+
+# Test 8 within its shear stages: the joint record too.
+"$bin" run "$lab" --stages 2 "${fast[@]}" --out "$tmp/labck" --checkpoint-every "3000 steps" || bad "lab with checkpoints: exit $?"
+m=0
+for k in "$tmp/labck"/checkpoint_step_*.h5; do
+  r="$tmp/labck-$(basename "$k" .h5)"
+  "$bin" run "$lab" --stages 2 "${fast[@]}" --out "$r" --restart "$k" || bad "lab restart from $k: exit $?"
+  same_history "$tmp/lab2" "$r" >/dev/null && cmp -s "$tmp/lab2/test08.csv" "$r/test08.csv" && m=$((m + 1))
+done
+shearing=$("$py" -c "
+import glob, h5py
+print(sum(1 for f in glob.glob('$tmp/labck/checkpoint_step_*.h5') if h5py.File(f, 'r', locking=False)['arrays/lab_record.stage_reference'][0] > 0))")
+[ "$m" -eq 3 ] && [ "$shearing" -ge 1 ] && ok "test 8 restarted from 3 checkpoints within its stages ($shearing within a shear stage): history and test08.csv identical" ||
+  bad "test 8 restarted within its stages: $m of 3 identical, $shearing within a shear stage"
+
+# An excavation released over 400 steps (relax) in a jointed rock mass with drift results: a
+# restart within the excavation stage rebuilds the release where it was.
+# (local damping in that stage: the damping's running averages come back too)
+sed -e '/^excavate = \["opening"\]/{n;/^damping = "none"/d}' "$src/tests/cli/drift/results.toml" |
+  sed -e 's/^excavate = \["opening"\]/excavate = ["opening"]\nrelax_steps = 400/' \
+      -e 's/^steps = 100$/steps = 600/' -e 's/^\[output\]/[output]\ncheckpoint_keep = 0/' > "$tmp/relax.toml"
+relax="$tmp/relax.toml"
+grep -q '^relax_steps = 400' "$relax" && [ "$(grep -A3 '^excavate = ' "$relax" | grep -c '^damping')" -eq 0 ] || bad "the relax case was not made"
+"$bin" run "$relax" --out "$tmp/rx" --quiet --checkpoint-every "250 steps" || bad "relax case: exit $?"
+m=0 n=0
+for k in "$tmp/rx"/checkpoint_step_*.h5; do
+  [ "$("$py" -c "import h5py; print('stage.relax' in h5py.File('$k', 'r', locking=False)['arrays'])")" = True ] || continue
+  n=$((n + 1))
+  r="$tmp/rx-$(basename "$k" .h5)"
+  "$bin" run "$relax" --out "$r" --restart "$k" --quiet || { bad "relax restart from $k: exit $?"; continue; }
+  same=1
+  same_state "$tmp/rx" "$r" >/dev/null && same_history "$tmp/rx" "$r" >/dev/null || same=0
+  for f in events.csv contacts_4_settle.csv; do  # the header names the case file, the rest must match
+    cmp -s <(tail -n +2 "$tmp/rx/drift/$f") <(tail -n +2 "$r/drift/$f") || same=0
+  done
+  m=$((m + same))
+done
+[ "$n" -ge 2 ] && [ "$m" -eq "$n" ] && ok "excavation with a gradual release: restarted from $n checkpoints within it, state, history and drift results identical" ||
+  bad "excavation with a gradual release: $m of $n restarts within it identical"
+
+# The stage under way ran in part with the checkpoint's case: it may not change; a later one may.
+k=$(ls "$tmp/ck" | grep '^checkpoint_step_' | sort -t_ -k3 -n | head -1)
+sed 's/^duration = "1 s"/duration = "0.5 s"/' "$incline" > "$tmp/later2.toml"
+expect within_changed_stage_refused 2 run "$tmp/later2.toml" --out "$tmp/w1" --restart "$tmp/ck/$k" --quiet -- \
+  "stages[1].duration" "run the changed case from the start"
+expect bad_interval_zero 2 run "$incline" --out "$tmp/b1" --checkpoint-every "0 steps" -- "--checkpoint-every" "positive whole number"
+expect bad_interval_words 2 run "$incline" --out "$tmp/b2" --checkpoint-every "often" -- "--checkpoint-every" "30 min"
+expect bad_interval_negative 2 run "$incline" --out "$tmp/b3" --checkpoint-every "-5 min" -- "--checkpoint-every" "must be a positive"
+sed 's/^\[output\]/[output]\ncheckpoint_every = 5000/' "$incline" > "$tmp/every.toml"
+expect bad_case_interval 2 run "$tmp/every.toml" --out "$tmp/b5" -- "output.checkpoint_every" "N steps"
+sed 's/^\[output\]/[output]\ncheckpoint_keep = -1/' "$incline" > "$tmp/keep.toml"
+expect bad_keep 2 run "$tmp/keep.toml" --out "$tmp/b4" -- "output.checkpoint_keep" "keep all"
 exit $fail
+
