@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cctype>
 #include <chrono>
-#include <cmath>
 #include <cstdlib>
 #include <csignal>
 #include <filesystem>
@@ -64,7 +63,7 @@ std::string read_text(const std::string& path) {
 }
 
 // SIGINT/SIGTERM ask the stepping loop to stop at the first contact detection after its current
-// chunk of steps (run_case writes a checkpoint to go on from, the histories and fields, and throws
+// chunk of steps (run_case writes a checkpoint to go on from and the histories so far, and throws
 // Interrupted). A second signal ends the process at once.
 extern "C" void request_stop(int sig) {
   interrupt_signal().store(sig);
