@@ -10,8 +10,9 @@ displacement, the measurement, and each ladder step's model aligned on it) and w
   residual_quadrants.png  residual (model - measured, shear stress in magnitude) by quadrant
                        (named: moving away / returning, + / - side) for the baseline and the
                        last ladder step, per variable, with units (box plots);
-  error_ladder.png     combined / per-variable NRMSE at each step, and the change in BIC each
-                       added effect made;
+  error_ladder.png     combined / per-variable NRMSE at each step, and the change in the
+                       information criterion (IC, with the effective number of independent
+                       residuals) each added effect made;
   covariates.png       covariate scores (adjusted eta^2) of the baseline residual, each stage's mean removed.
 """
 import argparse
@@ -133,12 +134,14 @@ def main():
         ax[0].plot(x, [s["nrmse"][key] for s in ladder], mk, label=lab)
     ax[0].set_ylabel("NRMSE (RMSE / measured range)")
     ax[0].set_title("the error at each step", fontsize=10)
-    dbic = [0.0] + [ladder[k]["bic"] - ladder[k - 1]["bic"] for k in range(1, len(ladder))]
+    # The IC change the ladder decided each rung by (its decision for the effect it added).
+    added = {c["step"]: c["delta_ic"] for c in d.get("ladder_decisions", []) if c["added"]}
+    dbic = [0.0] + [added.get(k, ladder[k]["bic"] - ladder[k - 1]["bic"]) for k in range(1, len(ladder))]
     ax[1].bar(x[1:], dbic[1:], color=["tab:green" if v < 0 else "tab:red" for v in dbic[1:]])
     ax[1].axhline(0.0, color="black", lw=0.8)
     for k in x[1:]:
         ax[1].annotate("%+.0f" % dbic[k], (k, dbic[k]), ha="center", va="top" if dbic[k] < 0 else "bottom", fontsize=8)
-    ax[1].set_ylabel("change in BIC from the step before")
+    ax[1].set_ylabel("change in IC from the step before")
     ax[1].set_title("what each added effect bought (negative: kept, it explains more than it costs)", fontsize=9, wrap=True)
     ax[1].set_xlim(-0.5, len(ladder) - 0.5)
     for axx in ax:

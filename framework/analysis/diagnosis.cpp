@@ -99,6 +99,13 @@ nlohmann::json nrmse_json(const std::array<double, 3>& a) {
   return {{"shear_stress", a[0]}, {"normal_disp", a[1]}, {"combined", a[2]}};
 }
 
+nlohmann::json size_json(const EffectiveSize& e) {
+  nlohmann::json j{{"n", e.total_n()}, {"n_eff", e.total_n_eff()}};
+  for (std::size_t v = 0; v < 2; ++v)
+    j[kCompareVariables[v].key] = {{"n", e.n[v]}, {"n_eff", e.n_eff[v]}, {"r1", e.r1[v]}, {"rss", e.rss[v]}};
+  return j;
+}
+
 nlohmann::json params_json(const CalibrationResult& r) {
   nlohmann::json j = nlohmann::json::object();
   for (const auto& p : r.params) j[p.name] = p.value;
@@ -442,6 +449,40 @@ std::vector<BaseLawFit> fit_base_laws(const MeasurementFile& data, const Segment
   return fits;
 }
 
+EffectiveSize effective_sample_size(const MeasurementFile& data, const Segmentation& seg, const Comparison& c) {
+  EffectiveSize out;
+  const std::size_t rows = data.rows.size();
+  for (std::size_t v = 0; v < 2; ++v) {
+    // The same residuals the fit sums (Evaluator::residuals): every row of a variable with a range.
+    if (!(c.range[v] > 0.0) || c.alignment.model[v].size() != rows || rows == 0) continue;
+    double sum_sq = 0.0, lag = 0.0, prev = 0.0;
+    for (std::size_t i = 0; i < rows; ++i) {
+      double e = (c.alignment.model[v][i] - compared_value(data.rows[i], v)) / c.range[v];
+      if (!std::isfinite(e)) e = 10.0;  // as the fit counts it
+      sum_sq += e * e;
+      if (i > 0 && seg.labels[i].stage == seg.labels[i - 1].stage) lag += e * prev;
+      prev = e;
+    }
+    const double r1 = sum_sq > 0.0 ? std::clamp(lag / sum_sq, 0.0, 1.0 - 1e-12) : 0.0;
+    const double n = static_cast<double>(rows);
+    out.n[v] = rows;
+    out.rss[v] = sum_sq;
+    out.r1[v] = r1;
+    out.n_eff[v] = std::min(n, std::max(n * (1.0 - r1) / (1.0 + r1), std::min(n, 5.0)));
+  }
+  return out;
+}
+
+double information_criterion(const EffectiveSize& fit, int k, const EffectiveSize& weights) {
+  const double n = static_cast<double>(std::max<std::size_t>(fit.total_n(), 1));
+  const double n_eff = std::max(weights.total_n_eff(), 1.0);
+  return n_eff * std::log(std::max(fit.rss[0] + fit.rss[1], 1e-300) / n) + static_cast<double>(k) * std::log(n_eff);
+}
+
+double delta_ic(const EffectiveSize& with, int k_with, const EffectiveSize& without, int k_without) {
+  return information_criterion(with, k_with, with) - information_criterion(without, k_without, with);
+}
+
 RecordFeatures record_features(const MeasurementFile& data, const Segmentation& seg) {
   return features_of(data, seg, row_covariates(data, seg));
 }
@@ -472,6 +513,7 @@ class DiagnosisRun {
     check_base_laws();
     d_.law = options_.base.law;
     fit_baseline();
+    d_.baseline_size = effective_sample_size(data_, seg_, d_.baseline.comparison);
     compare_with_base_laws();
     // Covariates of the baseline's residual within stages; the stage means on their own.
     const Covariates covariates = row_covariates(data_, seg_);
@@ -639,6 +681,8 @@ class DiagnosisRun {
       if (!warm_error.empty()) t.fit.warnings.push_back("the start from the baseline's values failed (" + warm_error + "); fitted from the record's estimates");
       count_parameters(t.fit, law_free_.size(), {t.effect});
       t.delta_bic = t.fit.bic - d_.baseline.bic;
+      t.size = effective_sample_size(data_, seg_, t.fit.comparison);
+      t.delta_ic = delta_ic(t.size, t.fit.k, d_.baseline_size, d_.baseline.k);
       t.fitted = t.fit.status != "failed" || t.fit.rss < d_.baseline.rss;
       if (!t.fitted) {
         t.failed = true;
@@ -675,7 +719,7 @@ class DiagnosisRun {
       const bool ja = a.judged && !a.failed, jb = b.judged && !b.failed;
       if (ja != jb) return ja;
       if (a.fitted != b.fitted) return a.fitted;
-      return a.fitted && a.fit.bic < b.fit.bic;
+      return a.fitted && a.delta_ic < b.delta_ic;
     });
     for (const auto& t : d_.ranking) {
       if (t.failed) {
@@ -700,7 +744,7 @@ class DiagnosisRun {
     const double base = d_.baseline.nrmse[2], cut = base - d_.ladder[1].fit.nrmse[2];
     if (!(cut > 0.0)) return;
     for (const auto& t : d_.ranking) {
-      if (t.effect == first || !t.judged || t.failed || !t.fitted || !(t.delta_bic < 0.0)) continue;
+      if (t.effect == first || !t.judged || t.failed || !t.fitted || !(t.delta_ic < 0.0)) continue;
       if (std::find(final_chain.begin(), final_chain.end(), t.effect) != final_chain.end()) continue;
       const double other = base - t.fit.nrmse[2];
       if (other >= 0.9 * cut) {
@@ -714,17 +758,20 @@ class DiagnosisRun {
   }
 
   // The ladder: the best single effect, then the best addition to the current chain, while that
-  // lowers both the BIC and the combined NRMSE the report shows. Only effects that improved the
-  // BIC alone are candidates. Every candidate tried is recorded with why it was or was not added.
+  // lowers both the IC (delta_ic) and the combined NRMSE the report shows. The first rung takes
+  // only effects that improved the IC alone; later rungs try every judged effect, since one can pay
+  // only on top of another (an effect whose shape shows once another has removed the larger
+  // misfit). Every candidate tried is recorded with why it was or was not added.
   void climb_ladder() {
-    d_.ladder.push_back({{}, d_.baseline});
+    d_.ladder.push_back({{}, d_.baseline, d_.baseline_size});
     std::vector<const EffectTrial*> candidates;
     for (const auto& t : d_.ranking)
-      if (t.judged && !t.failed && t.delta_bic < 0.0) candidates.push_back(&t);
+      if (t.judged && !t.failed && t.fitted) candidates.push_back(&t);
     std::set<std::string> used;
-    for (const auto* c : candidates) {  // the first rung: the best by BIC that also lowers the error
-      if (decide(1, c->effect, c->fit, d_.baseline)) {
-        d_.ladder.push_back({{c->effect}, c->fit});
+    for (const auto* c : candidates) {  // the first rung: the best by IC that also lowers the error
+      if (!(c->delta_ic < 0.0)) break;  // ranked by delta_ic: the rest do not pay alone either
+      if (decide(1, c->effect, c->fit, c->size, d_.ladder.front())) {
+        d_.ladder.push_back({{c->effect}, c->fit, c->size});
         used.insert(c->effect);
         break;
       }
@@ -738,13 +785,14 @@ class DiagnosisRun {
   }
 
   // Records the decision on `effect` for rung `step` (judge_rung) and returns whether it is added.
-  bool decide(std::size_t step, const std::string& effect, const CalibrationResult& fit, const CalibrationResult& before) {
-    d_.decisions.push_back(judge_rung(step, effect, fit, before));
+  bool decide(std::size_t step, const std::string& effect, const CalibrationResult& fit, const EffectiveSize& size,
+              const LadderStep& before) {
+    d_.decisions.push_back(judge_rung(step, effect, fit, size, before.fit, before.size));
     return d_.decisions.back().added;
   }
 
-  // Fits the current chain plus each of `next`; adds the best by BIC among those that lower both
-  // the BIC and the combined NRMSE.
+  // Fits the current chain plus each of `next`; adds the best by delta_ic among those that lower
+  // both the IC and the combined NRMSE.
   bool add_rung(const std::vector<const EffectTrial*>& next, std::set<std::string>& used) {
     const LadderStep& cur = d_.ladder.back();
     std::vector<CalibrationResult> fits(next.size());
@@ -767,14 +815,20 @@ class DiagnosisRun {
     std::vector<std::size_t> order;
     for (std::size_t i = 0; i < next.size(); ++i)
       if (ok[i]) order.push_back(i);
-    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return fits[a].bic < fits[b].bic; });
+    std::vector<EffectiveSize> sizes(next.size());
+    std::vector<double> ic(next.size(), 0.0);
+    for (const std::size_t i : order) {
+      sizes[i] = effective_sample_size(data_, seg_, fits[i].comparison);
+      ic[i] = delta_ic(sizes[i], fits[i].k, cur.size, cur.fit.k);
+    }
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return ic[a] < ic[b]; });
     const std::size_t step = d_.ladder.size();
     for (const std::size_t i : order) {
-      if (!decide(step, next[i]->effect, fits[i], cur.fit)) {
-        if (!(fits[i].bic < cur.fit.bic)) return false;  // the rest lower the BIC even less
+      if (!decide(step, next[i]->effect, fits[i], sizes[i], cur)) {
+        if (!(d_.decisions.back().delta_ic < 0.0)) return false;  // the rest lower the IC even less
         continue;
       }
-      LadderStep rung{cur.effects, std::move(fits[i])};
+      LadderStep rung{cur.effects, std::move(fits[i]), sizes[i]};
       rung.effects.push_back(next[i]->effect);
       used.insert(next[i]->effect);
       d_.ladder.push_back(std::move(rung));
@@ -794,18 +848,27 @@ class DiagnosisRun {
 }  // namespace
 
 LadderDecision judge_rung(std::size_t step, const std::string& effect, const CalibrationResult& fit,
-                          const CalibrationResult& before) {
-  LadderDecision dec{step, effect, false, fit.bic - before.bic, before.nrmse[2], fit.nrmse[2], ""};
-  char buf[200];
-  if (!(fit.bic < before.bic)) {
-    std::snprintf(buf, sizeof buf, "does not lower the BIC (%+.1f)", dec.delta_bic);
+                          const EffectiveSize& fit_size, const CalibrationResult& before, const EffectiveSize& before_size) {
+  LadderDecision dec;
+  dec.step = step;
+  dec.effect = effect;
+  const double n_eff = fit_size.total_n_eff();
+  dec.n_eff = n_eff;
+  dec.delta_ic = delta_ic(fit_size, fit.k, before_size, before.k);
+  dec.delta_bic = fit.bic - before.bic;
+  dec.nrmse_before = before.nrmse[2];
+  dec.nrmse_after = fit.nrmse[2];
+  char buf[300];
+  if (!(dec.delta_ic < 0.0)) {
+    std::snprintf(buf, sizeof buf, "does not lower the IC (%+.1f with n_eff = %.0f of %zu residuals)", dec.delta_ic, n_eff,
+                  fit_size.total_n());
   } else if (!(fit.nrmse[2] < before.nrmse[2])) {
-    std::snprintf(buf, sizeof buf, "lowers the BIC (%+.1f) but raises the combined NRMSE from %.4f to %.4f: not added",
-                  dec.delta_bic, dec.nrmse_before, dec.nrmse_after);
+    std::snprintf(buf, sizeof buf, "lowers the IC (%+.1f) but raises the combined NRMSE from %.4f to %.4f: not added",
+                  dec.delta_ic, dec.nrmse_before, dec.nrmse_after);
   } else {
     dec.added = true;
-    std::snprintf(buf, sizeof buf, "lowers the BIC (%+.1f) and the combined NRMSE from %.4f to %.4f", dec.delta_bic,
-                  dec.nrmse_before, dec.nrmse_after);
+    std::snprintf(buf, sizeof buf, "lowers the IC (%+.1f with n_eff = %.0f) and the combined NRMSE from %.4f to %.4f",
+                  dec.delta_ic, n_eff, dec.nrmse_before, dec.nrmse_after);
   }
   dec.reason = buf;
   return dec;
@@ -836,7 +899,12 @@ nlohmann::json to_json(const Diagnosis& d, const std::string& data_file) {
     j["base_laws"].push_back(e);
   }
   j["baseline"] = {{"params", params_json(d.baseline)}, {"nrmse", nrmse_json(d.baseline.nrmse)}, {"bic", d.baseline.bic},
-                   {"status", d.baseline.status}, {"calibration", to_json(d.baseline)}};
+                   {"effective_size", size_json(d.baseline_size)}, {"status", d.baseline.status},
+                   {"calibration", to_json(d.baseline)}};
+  j["rung_rule"] = "a rung is added when it lowers the combined NRMSE and IC = n_eff ln(RSS/n) + k ln(n_eff): the BIC "
+                   "of the range-normalised residuals the fit minimises, with n_eff, the effective number of independent "
+                   "residuals that the chain with the effect leaves (AR(1), from their lag-1 autocorrelation within "
+                   "stages), in place of the n rows";
   j["segments"] = nlohmann::json::array();
   for (const auto& g : d.baseline.comparison.segments) {
     for (std::size_t v = 0; v < 2; ++v) {
@@ -865,10 +933,12 @@ nlohmann::json to_json(const Diagnosis& d, const std::string& data_file) {
       e["nrmse"] = nullptr;
       e["bic"] = nullptr;
       e["delta_bic"] = nullptr;
+      e["delta_ic"] = nullptr;
     } else {
       e["nrmse"] = nrmse_json(t.fit.nrmse);
       e["bic"] = t.fit.bic;
       e["delta_bic"] = t.delta_bic;
+      e["delta_ic"] = t.delta_ic;
       e["k"] = t.fit.k;
       e["status"] = t.fit.status;
       e["params"] = params_json(t.fit);
@@ -879,12 +949,14 @@ nlohmann::json to_json(const Diagnosis& d, const std::string& data_file) {
   }
   j["ladder"] = nlohmann::json::array();
   for (const auto& s : d.ladder) {
-    j["ladder"].push_back({{"effects", s.effects}, {"nrmse", nrmse_json(s.fit.nrmse)}, {"bic", s.fit.bic}, {"k", s.fit.k}});
+    j["ladder"].push_back({{"effects", s.effects}, {"nrmse", nrmse_json(s.fit.nrmse)}, {"bic", s.fit.bic}, {"k", s.fit.k},
+                           {"effective_size", size_json(s.size)}});
   }
   j["ladder_decisions"] = nlohmann::json::array();
   for (const auto& c : d.decisions)
-    j["ladder_decisions"].push_back({{"step", c.step}, {"effect", c.effect}, {"added", c.added}, {"delta_bic", c.delta_bic},
-                                     {"nrmse_before", c.nrmse_before}, {"nrmse_after", c.nrmse_after}, {"reason", c.reason}});
+    j["ladder_decisions"].push_back({{"step", c.step}, {"effect", c.effect}, {"added", c.added}, {"n_eff", c.n_eff},
+                                     {"delta_ic", c.delta_ic}, {"delta_bic", c.delta_bic}, {"nrmse_before", c.nrmse_before},
+                                     {"nrmse_after", c.nrmse_after}, {"reason", c.reason}});
   j["final"] = {{"effects", d.ladder.back().effects}, {"params", params_json(d.ladder.back().fit)},
                 {"settings", d.ladder.back().fit.settings}, {"nrmse", nrmse_json(d.ladder.back().fit.nrmse)}};
   j["warnings"] = d.warnings;
@@ -939,14 +1011,23 @@ std::string format_report(const Diagnosis& d) {
                   d.covariates[i].name.c_str(), d.covariates[i].score);
     os << buf;
   }
-  os << "4. effects, best first:        combined NRMSE   delta BIC   k\n";
+  {
+    const auto& z = d.baseline_size;
+    std::snprintf(buf, sizeof buf,
+                  "4. effects, best first by delta IC (the baseline's %zu residuals are worth n_eff = %.0f independent values; lag-1\n"
+                  "   autocorrelation %.3f shear stress, %.3f normal displacement; each effect is counted with the n_eff it leaves):\n"
+                  "                                 combined NRMSE   delta IC   n_eff   k\n",
+                  z.total_n(), z.total_n_eff(), z.r1[0], z.r1[1]);
+    os << buf;
+  }
   for (const auto& t : d.ranking) {
     if (t.failed) {
       std::snprintf(buf, sizeof buf, "   %-28s failed\n", t.effect.c_str());
     } else if (!t.fitted) {
       std::snprintf(buf, sizeof buf, "   %-28s not fitted: cannot be judged from this record\n", t.effect.c_str());
     } else {
-      std::snprintf(buf, sizeof buf, "   %-28s %.4f         %+10.1f  %d%s\n", t.effect.c_str(), t.fit.nrmse[2], t.delta_bic, t.fit.k,
+      std::snprintf(buf, sizeof buf, "   %-28s %.4f         %+10.1f  %6.0f  %d%s\n", t.effect.c_str(), t.fit.nrmse[2], t.delta_ic,
+                    t.size.total_n_eff(), t.fit.k,
                     t.judged ? "" : "   (cannot be judged here)");
     }
     os << buf;
@@ -955,13 +1036,16 @@ std::string format_report(const Diagnosis& d) {
   for (const auto& s : d.ladder) {
     std::string name;
     for (const auto& e : s.effects) name += (name.empty() ? "" : " + ") + e;
-    std::snprintf(buf, sizeof buf, "   %-44s combined NRMSE %.4f, BIC %.1f\n", (d.law + (name.empty() ? "" : " + " + name)).c_str(),
-                  s.fit.nrmse[2], s.fit.bic);
+    std::snprintf(buf, sizeof buf, "   %-44s combined NRMSE %.4f, n_eff %.0f\n", (d.law + (name.empty() ? "" : " + " + name)).c_str(),
+                  s.fit.nrmse[2], s.size.total_n_eff());
     os << buf;
   }
-  // Effects the BIC favoured that the ladder left out because the error would have risen.
+  // Effects the IC favoured that the ladder left out because the error would have risen, and
+  // effects that a row-counting BIC would have added but the IC does not.
   for (const auto& c : d.decisions)
-    if (!c.added && c.delta_bic < 0.0) os << "   not added at step " << c.step << ": " << c.effect << " " << c.reason << "\n";
+    if (!c.added && (c.delta_ic < 0.0 || c.delta_bic < 0.0))
+      os << "   not added at step " << c.step << ": " << c.effect << " " << c.reason
+         << (c.delta_ic < 0.0 ? "" : " (a BIC counting every row as independent would have taken it)") << "\n";
   for (const auto& w : d.warnings) os << "warning: " << w << "\n";
   for (const auto& why : d.doubts) os << "note: not a confident answer: " << why << "\n";
   std::size_t unjudged = 0;

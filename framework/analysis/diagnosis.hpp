@@ -11,8 +11,16 @@
 //      an adjusted R^2), i.e. the share of the residual's variance its bin means explain;
 //   4. for every effect of the EffectRegistry (but those that declare themselves not physical,
 //      see non_physical_effects()), add it, recalibrate it with the base law (warm start), and rank by
-//      BIC = n ln(RSS/n) + k ln(n) (Schwarz 1978), n = compared residuals, k = free parameters;
-//      then climb a ladder: add the best effect while the BIC falls;
+//      an information criterion on the range-normalised residuals the fit minimises, whose
+//      sample size is the effective number of independent residuals, not the number of rows:
+//        IC = n_eff ln(RSS/n) + k ln(n_eff),  n_eff = sum_v n_v (1 - r1_v)/(1 + r1_v)
+//      i.e. the BIC (Schwarz 1978) with its log-likelihood divided by the variance inflation
+//      n/n_eff of correlated residuals, as QAIC divides it by an overdispersion factor (Burnham &
+//      Anderson 2002, sec. 2.5), n_eff from the AR(1) approximation of the effective sample size
+//      of an autocorrelated series (reviewed by Bretherton et al. 1999), r1_v the lag-1
+//      autocorrelation of variable v's residual within stages left by the chain with the effect
+//      (the larger of two nested models estimates the noise); then climb a ladder: add the best
+//      effect while the IC and the combined NRMSE the report shows both fall;
 //   5. JSON (to_json) and, with a report folder, the files plotted by scripts/plot_diagnosis.py.
 // Effects that the record cannot reveal (no reverse shearing, one side only, one rate, ...; each
 // effect says so itself from the record's features) are named with the reason and kept out of
@@ -122,6 +130,40 @@ RecordFeatures record_features(const MeasurementFile& data, const Segmentation& 
 std::string unjudgeable_reason(const std::string& effect, const RecordFeatures& features);
 std::string unjudgeable_reason(const std::string& effect, const MeasurementFile& data, const Segmentation& seg);
 
+// A fit's residuals per variable (shear stress, normal displacement; range-normalised, every row
+// as the fit counts them) and how many independent values they are worth. Residuals of
+// neighbouring rows are strongly correlated where a model misses a shape (one systematic misfit
+// spans hundreds of rows), and a criterion that counts rows credits an effect for bending a little
+// of that one misfit once per row. AR(1) approximation: r1 = sum e_t e_(t-1) / sum e_t^2 over
+// consecutive rows of the same stage (not centred: a constant offset is one misfit, not noise),
+// clamped to [0, 1); n_eff = n (1 - r1)/(1 + r1), floored at min(n, 5) per variable (fewer
+// independent values make no criterion, and ln(n_eff) must stay a penalty). White residuals give
+// n_eff = n.
+struct EffectiveSize {
+  std::array<std::size_t, 2> n{};  // residuals compared (0: the variable has no range)
+  std::array<double, 2> rss{};     // their sum of squares
+  std::array<double, 2> r1{};      // lag-1 autocorrelation
+  std::array<double, 2> n_eff{};
+  std::size_t total_n() const { return n[0] + n[1]; }
+  double total_n_eff() const { return n_eff[0] + n_eff[1]; }
+};
+EffectiveSize effective_sample_size(const MeasurementFile& data, const Segmentation& seg, const Comparison& c);
+
+// IC = n_eff ln(RSS/n) + k ln(n_eff), RSS = fit.rss summed over both variables (the sum the fit
+// minimises), n = fit's residuals, n_eff = weights.total_n_eff(): the fit's residuals counted as
+// n_eff independent values. With white weights (n_eff = n) it is the BIC the calibration reports.
+// (Per-variable log-likelihoods, each variable with its own variance, were tried: a refit that
+// trades a little of a variable fitted to its noise level for a large cut in the other then
+// scores worse, against the combined NRMSE the report shows; seeds 15 and 23 of the blind test.)
+double information_criterion(const EffectiveSize& fit, int k, const EffectiveSize& weights);
+
+// What adding an effect buys: IC(with) - IC(without), both counted with the effective sizes of
+// the residuals `with` leaves (the larger model's residuals estimate the noise, as in a nested
+// test; a real missing effect whitens the residual and so is counted with more independent
+// values, while an effect that only bends a systematic misfit leaves it correlated and is counted
+// with few). Negative: the effect pays for its parameters.
+double delta_ic(const EffectiveSize& with, int k_with, const EffectiveSize& without, int k_without);
+
 struct EffectTrial {
   std::string effect;
   bool revealable = true;   // the record can reveal it (its unjudgeable rule says nothing)
@@ -130,22 +172,26 @@ struct EffectTrial {
   bool failed = false;
   bool fitted = false;      // false: failed, or not judged and not fitted (DiagnosisOptions::fit_unjudged)
   CalibrationResult fit;
-  double delta_bic = 0.0;   // fit.bic - baseline BIC (negative: better)
+  double delta_bic = 0.0;   // fit.bic - baseline BIC (for reference: counts every row as independent)
+  double delta_ic = 0.0;    // delta_ic against the baseline (negative: pays for its parameters)
+  EffectiveSize size;       // of its residuals
 };
 
 struct LadderStep {
   std::vector<std::string> effects;
   CalibrationResult fit;
+  EffectiveSize size;  // of this step's residuals (reported; a rung is judged with the n_eff it leaves)
 };
 
-// Why the ladder took, or did not take, an effect at one step: a rung must lower the BIC and the
-// combined NRMSE the report shows (a BIC on strongly correlated residuals can favour an effect
-// whose refit moves the error the wrong way).
+// Why the ladder took, or did not take, an effect at one step: a rung must lower the IC
+// (delta_ic) and the combined NRMSE the report shows.
 struct LadderDecision {
   std::size_t step = 0;        // the rung it was tried for (1: the first effect)
   std::string effect;
   bool added = false;
-  double delta_bic = 0.0;      // against the step before
+  double n_eff = 0.0;          // of the chain with the effect (both variables): delta_ic's weights
+  double delta_ic = 0.0;       // against the step before
+  double delta_bic = 0.0;      // the same with n_eff = n (for reference)
   double nrmse_before = 0.0, nrmse_after = 0.0;  // combined
   std::string reason;
 };
@@ -157,7 +203,8 @@ struct Diagnosis {
   bool law_chosen = false;                 // `law` is the check's best, not the user's
   std::vector<CovariateScore> covariates;  // within stages, best first
   StageOffsets stage_offsets;              // the baseline residual's stage means
-  std::vector<EffectTrial> ranking;        // judged by BIC, best first; then the ones not judged
+  EffectiveSize baseline_size;             // the baseline's residuals
+  std::vector<EffectTrial> ranking;        // judged by IC, best first; then the ones not judged
   std::vector<LadderStep> ladder;          // first: the baseline
   std::vector<LadderDecision> decisions;   // every effect tried for a rung, in order
   std::vector<std::string> warnings;
@@ -173,10 +220,11 @@ struct Diagnosis {
 
 Diagnosis diagnose(const MeasurementFile& data, const Segmentation& seg, const DiagnosisOptions& options);
 
-// The ladder's rule for one candidate rung: `fit` (the chain with `effect` added) against
-// `before` (the chain without it) is added when it lowers both the BIC and the combined NRMSE.
+// The ladder's rule for one candidate rung: `fit` (the chain with `effect` added, residuals
+// `fit_size`) against `before` (the chain without it, `before_size`) is added when it lowers both
+// the IC (delta_ic) and the combined NRMSE.
 LadderDecision judge_rung(std::size_t step, const std::string& effect, const CalibrationResult& fit,
-                          const CalibrationResult& before);
+                          const EffectiveSize& fit_size, const CalibrationResult& before, const EffectiveSize& before_size);
 
 // The JSON of the issue: data, base_law, baseline, segments, covariates, stage_offsets, ranking,
 // ladder, ladder_decisions, final, plus warnings, confident, doubts, not_judged, worst.

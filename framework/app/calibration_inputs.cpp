@@ -27,7 +27,7 @@ std::vector<std::string> split_list(const std::string& s) {
 
 // --set NAME=VALUE: a raw value for the law or an effect ("effect.param"), checked when the model
 // is built (an unknown name or value is an InputError listing the valid ones).
-void set_value(const std::string& arg, CalibrationOptions& o) {
+void set_value(const std::string& arg, const std::vector<std::string>& settable_effects, CalibrationOptions& o) {
   const auto eq = arg.find('=');
   if (eq == std::string::npos || eq == 0 || eq + 1 == arg.size()) {
     throw InputError("--set " + arg + ": write NAME=VALUE, e.g. --set dilation=reversible");
@@ -47,9 +47,13 @@ void set_value(const std::string& arg, CalibrationOptions& o) {
     return;
   }
   const std::string effect = name.substr(0, dot);
-  if (std::find(o.effects.begin(), o.effects.end(), effect) == o.effects.end()) {
-    throw InputError("--set " + arg + ": effect '" + effect + "' is not in --effects" + did_you_mean(effect, o.effects) +
-                     (o.effects.empty() ? "; no effects were given (--effects NAME,...)" : "; --effects gives: " + join_names(o.effects)));
+  std::vector<std::string> known = o.effects;
+  for (const auto& e : settable_effects)
+    if (std::find(known.begin(), known.end(), e) == known.end()) known.push_back(e);
+  if (std::find(known.begin(), known.end(), effect) == known.end()) {
+    const std::string where = settable_effects.empty() ? "in --effects" : "among the effects tried";
+    throw InputError("--set " + arg + ": effect '" + effect + "' is not " + where + did_you_mean(effect, known) +
+                     (known.empty() ? "; no effects were given (--effects NAME,...)" : "; valid: " + join_names(known)));
   }
   o.effect_values[effect][name.substr(dot + 1)] = raw;
 }
@@ -109,7 +113,7 @@ void apply_inputs(const std::string& data_file, const MeasurementFile& data, con
   opt.element.length = length;
   opt.element.max_step = 1e-5;  // the laboratory cases' element step, 0.01 mm
   if (!case_file.empty()) apply_case(case_file, opt, notes);
-  for (const auto& a : in.set) set_value(a, opt);
+  for (const auto& a : in.set) set_value(a, in.settable_effects, opt);
 }
 
 }  // namespace rockdem

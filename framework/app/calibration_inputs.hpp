@@ -15,6 +15,10 @@ namespace rockdem {
 struct CalibrationInputs {
   std::string law, effects, case_file;
   std::vector<std::string> fix, free, set;
+  // Effects whose parameters --set may name besides those in `effects`: diagnose's effects to try
+  // (its `effects` is empty: the base law is fitted alone first), each set value used whenever that
+  // effect is in a fitted chain.
+  std::vector<std::string> settable_effects;
 };
 // Fills `opt` (law, effects, fixes, element settings, stages) from them; notes say what of a case
 // is not used. InputErrors name the option and list what is valid.

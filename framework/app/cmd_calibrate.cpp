@@ -70,7 +70,7 @@ const CommandRegistrar reg{Command{
           plan.inputs("a drive file of --case", read_lab_test(*case_file).drive_files);
         plan.check(*overwrite);
         CalibrationOptions o = *opt;
-        CalibrationInputs in{*law, *effects, *case_file, *fixes, *frees, *sets};
+        CalibrationInputs in{*law, *effects, *case_file, *fixes, *frees, *sets, {}};
         const MeasurementFile d = read_measurement_csv(*data);
         std::vector<std::string> notes;
         apply_inputs(*data, d, in, o, notes);

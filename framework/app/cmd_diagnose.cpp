@@ -128,13 +128,23 @@ const CommandRegistrar reg{Command{
           DiagnosisOptions o = *opt;
           const MeasurementFile d = read_measurement_csv(*data);
           std::vector<std::string> notes;
-          apply_inputs(*data, d, *in, o.base, notes);
           CalibrationInputs list;
           list.law = in->law;
           list.effects = *try_effects;
           CalibrationOptions tried;
           apply_inputs(*data, d, list, tried, notes);
           o.effects = tried.effects;
+          // --set effect.param: for any effect diagnose tries (the base law is fitted without effects).
+          CalibrationInputs base_inputs = *in;
+          base_inputs.settable_effects = o.effects;
+          if (o.effects.empty()) {
+            for (const auto& [name, entry] : EffectRegistry::instance().entries())
+              if (entry.declared.physical) base_inputs.settable_effects.push_back(name);
+          }
+          apply_inputs(*data, d, base_inputs, o.base, notes);
+          // Checked now: inside the diagnosis a value the effect refuses would only make its fit fail.
+          for (const auto& [effect, values] : o.base.effect_values)
+            EffectRegistry::instance().get(effect, "effect", "--set").make(values, "--set");
           const Segmentation seg = segment(d, o.base.compare.segmentation);
           Diagnosis dg;
           try {

@@ -87,6 +87,41 @@ expect diag_best_nocheck 2 diagnose --data "$twin" --law best --no-base-law-chec
 expect diag_mode_warning 0 diagnose --data "$twin" --law mohr_coulomb --set dilation=monotonic --effects dilation_recovery -- \
   "base law: mohr_coulomb with dilation = reversible fits this record much better than mohr_coulomb with dilation = monotonic"
 
+# Rungs by the IC with the effective number of independent residuals: on test 9's twin (Mohr-
+# Coulomb, the case's udec_legacy dilation) dilation_recovery is the first rung (0.152 -> 0.074);
+# two_order_roughness on top of it changes the error by 3 %, which a BIC counting each of the 4,806
+# correlated residuals as independent takes (delta BIC -93) and the IC does not (+15, n_eff ~80).
+expect diag_ic 0 diagnose --data "$twin" --law mohr_coulomb --case "$src/cases/direct_shear/test09_mohr_coulomb.toml" \
+  --no-base-law-check --effects dilation_recovery,two_order_roughness --json "$tmp/ic.json" -- \
+  "mohr_coulomb + dilation_recovery" "not added at step 2: two_order_roughness does not lower the IC" \
+  "a BIC counting every row as independent would have taken it"
+/usr/bin/python3 - "$tmp/ic.json" <<'PY' || { echo "FAIL diag_ic: the ladder's decisions"; fail=1; }
+import json, sys
+d = json.load(open(sys.argv[1]))
+assert d["final"]["effects"] == ["dilation_recovery"], d["final"]["effects"]
+dec = {(c["step"], c["effect"]): c for c in d["ladder_decisions"]}
+first, second = dec[(1, "dilation_recovery")], dec[(2, "two_order_roughness")]
+assert first["added"] and first["delta_ic"] < 0 and first["nrmse_after"] < 0.6 * first["nrmse_before"], first
+assert not second["added"] and second["delta_bic"] < 0 < second["delta_ic"], second
+size = d["baseline"]["effective_size"]
+assert size["n"] == 4806 and 20 < size["n_eff"] < 500, size
+assert size["normal_disp"]["r1"] > 0.9, size
+assert "n_eff" in d["rung_rule"]
+PY
+
+# --set effect.param with diagnose: for any effect it tries (its effects are not the base law's);
+# an effect it does not try is refused with the valid names.
+expect diag_set_effect 0 diagnose --data "$twin" --law mohr_coulomb --no-base-law-check --effects dilation_recovery \
+  --set dilation_recovery.rate_bound=climb --json "$tmp/set.json" -- "mohr_coulomb + dilation_recovery"
+/usr/bin/python3 -c 'import json, sys; d = json.load(open(sys.argv[1])); sys.exit(0 if d["final"]["settings"].get("dilation_recovery.rate_bound") == "climb" else 1)' \
+  "$tmp/set.json" || { echo "FAIL diag_set_effect: the final model's rate_bound is not climb"; fail=1; }
+expect diag_set_untried 2 diagnose --data "$twin" --law mohr_coulomb --effects dilation_recovery --set reverse_shear_degradation.weight=2 -- \
+  "--set reverse_shear_degradation.weight=2: effect 'reverse_shear_degradation' is not among the effects tried" "valid: dilation_recovery"
+expect diag_set_typo 2 diagnose --data "$twin" --law mohr_coulomb --effects dilation_recovery --set dilation_recovery.hysterisis=0.5 -- \
+  "unknown parameter 'hysterisis' for effect 'dilation_recovery' (did you mean 'hysteresis'?)"
+expect diag_set_range 2 diagnose --data "$twin" --law mohr_coulomb --effects dilation_recovery --set dilation_recovery.rate_bound=steep -- \
+  "rate_bound" "path" "climb"
+
 # --report DIR is the diagnosis's own folder, as a run's --out: written with a manifest; refused
 # when not empty (before the fit runs), emptied by --overwrite only when an earlier report made it.
 if /usr/bin/python3 -c "import matplotlib" 2>/dev/null; then

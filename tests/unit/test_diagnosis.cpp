@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <cstdio>
 #include <random>
 
@@ -105,7 +106,12 @@ TEST(Diagnosis, LadderStopsWhenNothingHelpsAndJsonHasTheKeys) {
   const Diagnosis d = diagnose(f, seg, options({"reverse_shear_degradation", "dilation_recovery"}));
   ASSERT_EQ(d.ladder.size(), 1u) << format_report(d);
   EXPECT_TRUE(d.ladder[0].effects.empty());
-  for (const auto& t : d.ranking) EXPECT_GT(t.delta_bic, 0.0) << t.effect;
+  for (const auto& t : d.ranking) {
+    EXPECT_GT(t.delta_bic, 0.0) << t.effect;
+    EXPECT_GT(t.delta_ic, 0.0) << t.effect;
+  }
+  // A record made by the law itself with white noise: its residuals are nearly independent.
+  EXPECT_GT(d.baseline_size.total_n_eff(), 0.5 * static_cast<double>(d.baseline_size.total_n())) << format_report(d);
   const nlohmann::json j = to_json(d, "synthetic.csv");
   for (const char* k : {"data", "base_law", "baseline", "segments", "covariates", "ranking", "ladder", "ladder_decisions",
                         "final", "warnings"})
@@ -116,33 +122,117 @@ TEST(Diagnosis, LadderStopsWhenNothingHelpsAndJsonHasTheKeys) {
   for (const char* k : {"variable", "stage", "cycle", "quadrant", "n", "nrmse", "bias"})
     EXPECT_TRUE(j["segments"][0].contains(k)) << k;
   for (const char* k : {"variable", "name", "score"}) EXPECT_TRUE(j["covariates"][0].contains(k)) << k;
-  for (const char* k : {"effect", "nrmse", "bic", "delta_bic"}) EXPECT_TRUE(j["ranking"][0].contains(k)) << k;
-  for (const char* k : {"effects", "nrmse", "bic"}) EXPECT_TRUE(j["ladder"][0].contains(k)) << k;
+  for (const char* k : {"effect", "nrmse", "bic", "delta_bic", "delta_ic"}) EXPECT_TRUE(j["ranking"][0].contains(k)) << k;
+  for (const char* k : {"effects", "nrmse", "bic", "effective_size"}) EXPECT_TRUE(j["ladder"][0].contains(k)) << k;
+  for (const char* k : {"n", "n_eff", "shear_stress", "normal_disp"}) EXPECT_TRUE(j["baseline"]["effective_size"].contains(k)) << k;
+  for (const char* k : {"n", "n_eff", "r1", "rss"}) EXPECT_TRUE(j["baseline"]["effective_size"]["shear_stress"].contains(k)) << k;
+  EXPECT_TRUE(j.contains("rung_rule"));
   for (const char* k : {"effects", "params"}) EXPECT_TRUE(j["final"].contains(k)) << k;
 }
 
-// The ladder's rule: a rung must lower the BIC and the combined NRMSE the report shows; the
-// decision says which of the two failed, with the numbers.
-TEST(Diagnosis, ARungMustLowerTheBicAndTheReportedError) {
-  CalibrationResult before, better, bic_only, worse;
-  before.bic = -5000.0;
-  before.nrmse = {0.01, 0.20, 0.105};
-  better.bic = -5600.0;
-  better.nrmse = {0.01, 0.12, 0.065};
-  bic_only.bic = -5600.0;  // wins the BIC, but the reported error rises
-  bic_only.nrmse = {0.02, 0.21, 0.115};
-  worse.bic = -4990.0;
-  worse.nrmse = {0.01, 0.19, 0.100};
-  const LadderDecision a = judge_rung(1, "dilation_recovery", better, before);
-  EXPECT_TRUE(a.added);
-  EXPECT_DOUBLE_EQ(a.delta_bic, -600.0);
+// The ladder's rule: a rung must lower the IC (with the effective sizes of the chain it is added
+// to) and the combined NRMSE the report shows; the decision says which failed, with the numbers.
+// Shear stress only (500 residuals): a 10 % cut of its sum of squares with two more parameters
+// pays when the residuals are independent (IC = BIC: 500 ln 0.9 + 2 ln 500 = -40.3) but not when
+// they are worth 20 independent values (20 ln 0.9 + 2 ln 20 = +3.9): a shape missed over hundreds
+// of rows is one misfit, not hundreds. The sizes weighing both fits are those the chain with the
+// effect leaves (delta_ic).
+TEST(Diagnosis, ARungMustLowerTheIcAndTheReportedError) {
+  auto fit = [](double rss, int k, double combined) {
+    CalibrationResult r;
+    r.n = 500;
+    r.rss = rss;
+    r.k = k;
+    r.bic = 500.0 * std::log(rss / 500.0) + k * std::log(500.0);
+    r.nrmse = {combined, 0.0, combined};
+    return r;
+  };
+  auto size = [](double rss, double n_eff) {
+    EffectiveSize z;
+    z.n = {500, 0};
+    z.rss = {rss, 0.0};
+    z.n_eff = {n_eff, 0.0};
+    return z;
+  };
+  const CalibrationResult before = fit(10.0, 3, 0.105), halved = fit(5.0, 5, 0.065), tenth = fit(9.0, 5, 0.100),
+                          error_up = fit(5.0, 5, 0.115);
+  EXPECT_NEAR(information_criterion(size(10.0, 500.0), 3, size(10.0, 500.0)), before.bic, 1e-9);  // white: the BIC
+  const LadderDecision a = judge_rung(1, "dilation_recovery", halved, size(5.0, 20.0), before, size(10.0, 20.0));
+  EXPECT_TRUE(a.added) << a.reason;
+  EXPECT_NEAR(a.delta_ic, 20.0 * std::log(0.5) + 2.0 * std::log(20.0), 1e-9);
+  EXPECT_NEAR(a.delta_bic, 500.0 * std::log(0.5) + 2.0 * std::log(500.0), 1e-9);
   EXPECT_NE(a.reason.find("from 0.1050 to 0.0650"), std::string::npos) << a.reason;
-  const LadderDecision b = judge_rung(2, "rate_and_state", bic_only, before);
-  EXPECT_FALSE(b.added);
-  EXPECT_NE(b.reason.find("raises the combined NRMSE from 0.1050 to 0.1150: not added"), std::string::npos) << b.reason;
-  const LadderDecision c = judge_rung(2, "two_order_roughness", worse, before);
+  const LadderDecision b = judge_rung(1, "rate_and_state", tenth, size(9.0, 500.0), before, size(10.0, 500.0));
+  EXPECT_TRUE(b.added) << b.reason;
+  EXPECT_NEAR(b.delta_ic, -40.3, 0.1);
+  const LadderDecision c = judge_rung(1, "rate_and_state", tenth, size(9.0, 20.0), before, size(10.0, 20.0));
   EXPECT_FALSE(c.added);
-  EXPECT_NE(c.reason.find("does not lower the BIC (+10.0)"), std::string::npos) << c.reason;
+  EXPECT_NEAR(c.delta_ic, 3.9, 0.1);
+  EXPECT_LT(c.delta_bic, 0.0);
+  EXPECT_NE(c.reason.find("does not lower the IC (+3.9 with n_eff = 20 of 500 residuals)"), std::string::npos) << c.reason;
+  const LadderDecision e = judge_rung(2, "two_order_roughness", error_up, size(5.0, 20.0), before, size(10.0, 20.0));
+  EXPECT_FALSE(e.added);
+  EXPECT_NE(e.reason.find("raises the combined NRMSE from 0.1050 to 0.1150: not added"), std::string::npos) << e.reason;
+  // Two variables: shear stress cut 25-fold (its residuals worth 20), normal displacement all noise
+  // (rss 30 over 500 white residuals, unchanged): the summed squares fall from 40 to 30.4, counted
+  // with the 520 independent values the refit leaves: 520 ln(30.4/40) + 2 ln 520 = -130.
+  EffectiveSize two_before = size(10.0, 20.0), two_after = size(0.4, 20.0);
+  for (EffectiveSize* z : {&two_before, &two_after}) {
+    z->n[1] = 500;
+    z->rss[1] = 30.0;
+    z->n_eff[1] = 500.0;
+  }
+  const LadderDecision t = judge_rung(1, "rate_and_state", halved, two_after, before, two_before);
+  EXPECT_NEAR(t.delta_ic, 520.0 * std::log(30.4 / 40.0) + 2.0 * std::log(520.0), 1e-9);
+  EXPECT_TRUE(t.added) << t.reason;
+}
+
+// The effective number of independent residuals against its closed form: an AR(1) series with
+// lag-1 correlation phi has n (1 - phi)/(1 + phi); white noise n; pairs across a stage boundary
+// do not count; a residual that is one constant offset is worth the floor (10), not its rows.
+TEST(Diagnosis, EffectiveSampleSizeMatchesTheAr1ClosedForm) {
+  const std::size_t rows = 40000;
+  auto make = [&](const std::function<double(std::size_t)>& e0, const std::function<double(std::size_t)>& e1,
+                  const std::function<int(std::size_t)>& stage) {
+    MeasurementFile data;
+    Segmentation seg;
+    Comparison c;
+    c.range = {2.0, 0.5};
+    for (std::size_t i = 0; i < rows; ++i) {
+      data.rows.push_back({static_cast<double>(i), stage(i), 1.0, 0.0, 0.0, 0.0});
+      RowLabel l;
+      l.stage = stage(i);
+      seg.labels.push_back(l);
+      c.alignment.model[0].push_back(2.0 * e0(i));  // residual e0 in units of the range
+      c.alignment.model[1].push_back(0.5 * e1(i));
+    }
+    return effective_sample_size(data, seg, c);
+  };
+  std::mt19937 gen(7);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  std::vector<double> ar(rows), white(rows);
+  const double phi = 0.9;
+  ar[0] = normal(gen);
+  for (std::size_t i = 1; i < rows; ++i) ar[i] = phi * ar[i - 1] + std::sqrt(1.0 - phi * phi) * normal(gen);
+  for (auto& w : white) w = normal(gen);
+  auto one = [](std::size_t) { return 1; };
+  const EffectiveSize s = make([&](std::size_t i) { return ar[i]; }, [&](std::size_t i) { return white[i]; }, one);
+  EXPECT_EQ(s.total_n(), 2 * rows);
+  EXPECT_NEAR(s.r1[0], phi, 0.01);
+  EXPECT_NEAR(s.r1[1], 0.0, 0.02);
+  EXPECT_NEAR(s.n_eff[0] / (rows * (1.0 - phi) / (1.0 + phi)), 1.0, 0.05) << s.n_eff[0];
+  EXPECT_NEAR(s.n_eff[1] / rows, 1.0, 0.05) << s.n_eff[1];
+  EXPECT_NEAR(s.rss[1] / rows, 1.0, 0.03);
+  // Alternating signs between stages of one row each: no pair is within a stage, so r1 = 0.
+  const EffectiveSize alt = make([](std::size_t i) { return i % 2 ? 1.0 : -1.0; }, [](std::size_t) { return 0.0; },
+                                 [](std::size_t i) { return static_cast<int>(i) + 1; });
+  EXPECT_EQ(alt.r1[0], 0.0);
+  EXPECT_NEAR(alt.total_n_eff(), 2.0 * rows, 1e-9);
+  // One offset over every row: r1 -> 1, n_eff at the floor.
+  const EffectiveSize offset = make([](std::size_t) { return 0.3; }, [](std::size_t) { return -0.2; }, one);
+  EXPECT_GT(offset.r1[0], 0.999);
+  EXPECT_DOUBLE_EQ(offset.n_eff[0], 5.0);
+  EXPECT_DOUBLE_EQ(offset.total_n_eff(), 10.0);
 }
 
 // Blind: one hidden effect drawn from those a two-sided constant-rate record can reveal, with
@@ -417,4 +507,52 @@ TEST(Diagnosis, BaseLawCheckNamesABetterShapeAndBestUsesIt) {
   EXPECT_LT(best.baseline.nrmse[2], 0.5 * named.baseline.nrmse[2]) << format_report(best);
   for (const auto& rung : best.ladder)
     for (const auto& e : rung.effects) EXPECT_NE(e, "dilation_recovery") << format_report(best);
+}
+
+// Clean controls, one per base law: a two-sided cyclic record made by the law alone (its own
+// dilation mode) with white noise, diagnosed with that law and the whole catalogue. Nothing may be
+// added: white residuals are worth n_eff close to n, and no effect's few parameters pay for
+// fitting noise. (The clean-control test; the blind test draws only hidden effects.)
+TEST(Diagnosis, CleanRecordsOfEachBaseLawGetNoEffect) {
+  struct Law {
+    const char* name;
+    RawValues values;
+  };
+  const std::vector<Law> laws{
+      {"mohr_coulomb", kMc},
+      {"barton_bandis",
+       {{"kn", q("40 GPa/m")},
+        {"ks", q("12 GPa/m")},
+        {"jrc", q("8")},
+        {"jcs", q("120 MPa")},
+        {"residual_friction", q("30 deg")},
+        {"lab_length", q("0.2 m")},
+        {"dilation", q("reversible")}}},
+      {"continuously_yielding",
+       {{"kn", q("40 GPa/m")},
+        {"ks", q("15 GPa/m")},
+        {"initial_friction", q("50 deg")},
+        {"friction", q("32 deg")},
+        {"roughness", q("3 mm")},
+        {"dilation", q("monotonic")}}},
+  };
+  for (const Law& law : laws) {
+    auto model = make_joint_model(law.name, law.values, {}, "test");
+    const MeasurementFile f = testutil::noisy_two_stage_record(*model, 2.5e-5, 4, false, 11);
+    const Segmentation seg = segment(f);
+    DiagnosisOptions o = options({});  // every physical effect registered
+    o.base.law = law.name;
+    o.base.law_values.clear();
+    o.base.law_values["dilation"] = law.values.at("dilation");
+    o.base.law_values["kn"] = law.values.at("kn");
+    o.base.element.max_step = 2.5e-5;
+    o.base.fit_step = 5e-5;
+    const Diagnosis d = diagnose(f, seg, o);
+    std::printf("clean %s: baseline combined NRMSE %.4f, n_eff %.0f of %zu\n", law.name, d.baseline.nrmse[2],
+                d.baseline_size.total_n_eff(), d.baseline_size.total_n());
+    EXPECT_EQ(d.ladder.size(), 1u) << law.name << "\n" << format_report(d);
+    EXPECT_GT(d.baseline_size.total_n_eff(), 0.5 * static_cast<double>(d.baseline_size.total_n()))
+        << law.name << "\n" << format_report(d);
+    EXPECT_LT(d.baseline.nrmse[2], 0.05) << law.name << "\n" << format_report(d);
+  }
 }
