@@ -136,7 +136,8 @@ def main():
     ax[0].set_title("the error at each step", fontsize=10)
     # The IC change the ladder decided each rung by (its decision for the effect it added).
     added = {c["step"]: c["delta_ic"] for c in d.get("ladder_decisions", []) if c["added"]}
-    dbic = [0.0] + [added.get(k, ladder[k]["bic"] - ladder[k - 1]["bic"]) for k in range(1, len(ladder))]
+    # (A JSON of an older rockdem has no decisions: its rungs are drawn at 0, not as BIC changes.)
+    dbic = [0.0] + [added.get(k, 0.0) for k in range(1, len(ladder))]
     ax[1].bar(x[1:], dbic[1:], color=["tab:green" if v < 0 else "tab:red" for v in dbic[1:]])
     ax[1].axhline(0.0, color="black", lw=0.8)
     for k in x[1:]:

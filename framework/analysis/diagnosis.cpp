@@ -1043,9 +1043,11 @@ std::string format_report(const Diagnosis& d) {
   // Effects the IC favoured that the ladder left out because the error would have risen, and
   // effects that a row-counting BIC would have added but the IC does not.
   for (const auto& c : d.decisions)
-    if (!c.added && (c.delta_ic < 0.0 || c.delta_bic < 0.0))
+    if (!c.added && (c.delta_ic < 0.0 || c.delta_bic < 0.0)) {
+      const bool bic_would = !(c.delta_ic < 0.0) && c.nrmse_after < c.nrmse_before;
       os << "   not added at step " << c.step << ": " << c.effect << " " << c.reason
-         << (c.delta_ic < 0.0 ? "" : " (a BIC counting every row as independent would have taken it)") << "\n";
+         << (bic_would ? " (a BIC counting every row as independent would have taken it)" : "") << "\n";
+    }
   for (const auto& w : d.warnings) os << "warning: " << w << "\n";
   for (const auto& why : d.doubts) os << "note: not a confident answer: " << why << "\n";
   std::size_t unjudged = 0;

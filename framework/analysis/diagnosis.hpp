@@ -159,9 +159,8 @@ double information_criterion(const EffectiveSize& fit, int k, const EffectiveSiz
 
 // What adding an effect buys: IC(with) - IC(without), both counted with the effective sizes of
 // the residuals `with` leaves (the larger model's residuals estimate the noise, as in a nested
-// test; a real missing effect whitens the residual and so is counted with more independent
-// values, while an effect that only bends a systematic misfit leaves it correlated and is counted
-// with few). Negative: the effect pays for its parameters.
+// test: what the effect could not explain is what its gain is weighed against). Negative: the
+// effect pays for its parameters.
 double delta_ic(const EffectiveSize& with, int k_with, const EffectiveSize& without, int k_without);
 
 struct EffectTrial {

@@ -1,6 +1,6 @@
 // `rockdem diagnose --data FILE.csv --law LAW [--json OUT.json] [--report DIR] [--overwrite]
 // [--effects a,b] [--case CASE.toml] [--fix p=v] [--set p=v] [--threads N]`: calibrates the base law, says where
-// it fails, which covariates the residual follows, which catalogue effect helps most (BIC) and
+// it fails, which covariates the residual follows, which catalogue effect helps most (an IC with the effective number of independent residuals) and
 // climbs the ladder of effects (framework/analysis/diagnosis.hpp). --report writes the aligned
 // records and the figures through scripts/plot_diagnosis.py, run by Debian's /usr/bin/python3
 // (which has matplotlib; the first python3 on PATH may be a virtual environment without it).
@@ -29,7 +29,7 @@ namespace {
 namespace fs = std::filesystem;
 
 const CommandRegistrar reg{Command{
-    "diagnose", "calibrate a law, localise and explain its misfit, rank the catalogue effects by BIC and add them while it falls",
+    "diagnose", "calibrate a law, localise and explain its misfit, rank the catalogue effects by an information criterion and add them while it falls",
     false, [](CLI::App& sub) {
       auto data = std::make_shared<std::string>();
       auto in = std::make_shared<CalibrationInputs>();
