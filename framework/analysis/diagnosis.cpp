@@ -124,12 +124,18 @@ std::string short_worst(const CalibrationResult& r) {
 
 }  // namespace
 
-std::vector<std::string> non_physical_effects() {
+namespace {
+std::vector<std::string> effects_declared_physical(bool physical) {
   std::vector<std::string> out;
   for (const auto& [name, entry] : EffectRegistry::instance().entries())
-    if (!entry.declared.physical) out.push_back(name);
+    if (entry.declared.physical == physical) out.push_back(name);
   return out;
 }
+}  // namespace
+
+std::vector<std::string> non_physical_effects() { return effects_declared_physical(false); }
+
+std::vector<std::string> physical_effects() { return effects_declared_physical(true); }
 
 namespace {
 
@@ -631,11 +637,7 @@ class DiagnosisRun {
 
   // Every effect, added alone and refitted with the base law's free parameters.
   void try_each_effect(const RecordFeatures& features) {
-    std::vector<std::string> effects = options_.effects;
-    if (effects.empty()) {
-      for (const auto& [name, entry] : EffectRegistry::instance().entries())
-        if (entry.declared.physical) effects.push_back(name);
-    }
+    const std::vector<std::string> effects = options_.effects.empty() ? physical_effects() : options_.effects;
     // Two effects at a time on two cores, each fit single-threaded (nested threads would oversubscribe).
     const int outer = std::max(1, std::min<int>(options_.threads, static_cast<int>(effects.size())));
     const int inner = std::max(1, options_.threads / outer);

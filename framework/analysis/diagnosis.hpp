@@ -120,6 +120,8 @@ std::vector<CovariateScore> score_covariates(const Covariates& cov, const std::a
 // Effects of the registry that declare themselves not physical (`physical = false`, e.g.
 // strength_reduction: a factor of safety device that scales the strength): never tried.
 std::vector<std::string> non_physical_effects();
+// The others, in registry order: the effects diagnose tries when none are named.
+std::vector<std::string> physical_effects();
 
 // What the record shows that decides whether an effect can be revealed by it (plugin_api's
 // neutral description, so that effects can judge it without seeing records).

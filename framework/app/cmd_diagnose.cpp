@@ -136,11 +136,7 @@ const CommandRegistrar reg{Command{
           o.effects = tried.effects;
           // --set effect.param: for any effect diagnose tries (the base law is fitted without effects).
           CalibrationInputs base_inputs = *in;
-          base_inputs.settable_effects = o.effects;
-          if (o.effects.empty()) {
-            for (const auto& [name, entry] : EffectRegistry::instance().entries())
-              if (entry.declared.physical) base_inputs.settable_effects.push_back(name);
-          }
+          base_inputs.settable_effects = o.effects.empty() ? physical_effects() : o.effects;
           apply_inputs(*data, d, base_inputs, o.base, notes);
           // Checked now: inside the diagnosis a value the effect refuses would only make its fit fail.
           for (const auto& [effect, values] : o.base.effect_values)
