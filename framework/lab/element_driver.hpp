@@ -99,7 +99,8 @@ class ElementDriver {
  private:
   const JointModel& model_for(const ElementStage& s) const { return s.model ? *s.model : model_; }
   bool frame() const { return opt_.frame_stiffness > 0.0; }
-  void solve_normal(const ElementStage& stage, double du_s, double dt);
+  // scan = false skips the costly last search (see step()).
+  void solve_normal(const ElementStage& stage, double du_s, double dt, bool scan = true);
   // solve_normal, halving the increment (down to 1/64) where it cannot meet the normal condition.
   bool solve_substepped(const ElementStage& stage, double du_s, double dt, int depth, bool may_split = true);
   void frame_step(const ElementStage& stage, double du_load, double dt);
@@ -124,12 +125,12 @@ class ElementDriver {
   double u_n_stage_ = 0.0;  // at the start of the current stage (after normal loading)
   double cns_sigma0_ = 0.0, cns_u_n0_ = 0.0;
   double last_du_n_ = 0.0;
-  double last_slope_ = 0.0;  // secant dg/d(du_n) of the last solve (negated)
+  double last_slope_ = 0.0;  // dg/d(du_n) where the last solve met the condition (0: none yet)
   long steps_ = 0, unconverged_ = 0;
-  // The last increment could not meet the normal condition even in halves: the next ones are not
-  // halved (but every 16th) until one meets it (each halving of a hopeless increment costs a dozen solves).
-  bool halving_failed_ = false;
-  long skipped_halvings_ = 0;
+  // The last increment missed the normal condition even in halves: the next ones skip the scan
+  // and the halving (but every 16th) until one meets it.
+  bool hopeless_ = false;
+  long skipped_ = 0;
   int max_iter_used_ = 0;
   double u_load_ = 0.0, v_block_ = 0.0;  // frame load point [m] and block velocity [m/s]
 };

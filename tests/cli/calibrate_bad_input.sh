@@ -165,7 +165,8 @@ expect diag_overwrite_alone 2 diagnose --data "$tmp/forward.csv" --law mohr_coul
 # A joint that would lift off within one fitting step (Continuously-Yielding on the first 1,200
 # rows of test 14's twin: at 0.05 mm with the stiff default kn it fell to 0 MPa, the baseline
 # "failed at the fitting step" and the effect's fit from the baseline's values could not be run)
-# is stepped in halves there: the baseline and the effect are fitted, neither fails.
+# is solved there (the element driver's normal solve follows a contracting joint's rising branch
+# and steps in halves what still misses): the baseline and the effect are fitted, neither fails.
 { grep '^#' "$src/cases/direct_shear/twins/test14.csv"; grep -v '^#' "$src/cases/direct_shear/twins/test14.csv" | head -1200; } \
   >"$tmp/test14_start.csv"
 expect diag_lift_off 0 diagnose --data "$tmp/test14_start.csv" --law continuously_yielding --no-base-law-check \

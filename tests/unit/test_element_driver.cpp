@@ -107,6 +107,39 @@ TEST(ElementDriver, ConstantNormalStiffnessRaisesTheNormalStressWithDilation) {
   EXPECT_NEAR(f.rows[top].shear_stress_MPa, f.rows[top].normal_stress_MPa * std::tan(38 * kDeg), 1e-3);
 }
 
+// A joint that contracts while it slips back toward the mated position (reversible dilation) with
+// kn tan(psi) tan(phi) / ks > 1 (kn = 200 GPa/m: 20 x tan 10 deg x tan 35 deg = 2.5): under a fixed normal
+// displacement the increment's response folds (closing the joint lowers its normal stress; there are
+// two consistent normal stresses or none), but under the constant normal stress the answer is
+// unique and the driver must find it on every increment, at the case step and at the coarser
+// fitting step. Closed form (cohesionless, sigma_n = T, one-sided cycle 0 -> +A -> 0): slip starts
+// at S/ks (S = T tan phi); the forward stroke dilates tan(psi) (A - S/ks); the return unloads
+// elastically over 2 S/ks and slips back A - 2 S/ks contracting at tan(psi), so at the origin
+// u_n = tan(psi) S/ks. Before, with a normal solve that took the normal stress to fall as the
+// joint opens, every row met the normal stress but at 200 GPa/m the return stroke recovered too
+// little (0.0290 mm left at the origin with 0.01 mm steps, 0.0405 mm with 0.05 mm, against 0.0247).
+TEST(ElementDriver, ReversibleDilationOnAStiffJointFoldsAndStillMeetsTheNormalStress) {
+  const double T = 2e6, A = 2e-3, ks = 10e9, tan_psi = std::tan(10 * kDeg), S = T * std::tan(35 * kDeg);
+  // c = kn tan(psi) tan(phi) / ks: 0.74 (no fold), 2.5, 12 and 37.
+  for (const char* kn : {"60 GPa/m", "200 GPa/m", "1000 GPa/m", "3000 GPa/m"}) {
+    auto m = model("mohr_coulomb", values({{"kn", kn}, {"ks", "10 GPa/m"}, {"friction", "35 deg"},
+                                           {"dilation_angle", "10 deg"}, {"dilation", "reversible"}}));
+    for (const double step : {1e-5, 5e-5}) {
+      SCOPED_TRACE(std::string("kn ") + kn + ", max_step " + std::to_string(step));
+      ElementOptions o;
+      o.max_step = step;
+      ElementDriver d(*m, o);
+      const auto f = d.run({cnl(T, ShearPath::cycles(A, 1, 1e-4, true))});
+      EXPECT_EQ(d.unconverged_steps(), 0);
+      for (const auto& r : f.rows) ASSERT_NEAR(r.normal_stress_MPa, 2.0, 1e-9);
+      EXPECT_NEAR(f.rows[row_at(f, 2.0)].normal_disp_mm, tan_psi * (A - S / ks) * 1e3, 1e-9);
+      EXPECT_NEAR(f.rows[row_at(f, 1.0, row_at(f, 2.0))].shear_stress_MPa, -S * 1e-6, 1e-9);  // slipping back
+      EXPECT_NEAR(f.rows.back().shear_disp_mm, 0.0, 1e-12);
+      EXPECT_NEAR(f.rows.back().normal_disp_mm, tan_psi * S / ks * 1e3, 1e-9);
+    }
+  }
+}
+
 TEST(ElementDriver, SinusoidAndFilePaths) {
   auto m = model("mohr_coulomb", mc_report());
   {
