@@ -374,8 +374,11 @@ void ElementDriver::restore(const Snapshot& s) {
 // condition at any step here: its second half is solved once, not split again (nor scanned).
 // Returns whether all of it met the condition. (The rule in step() that skips halving after a
 // hopeless increment made dilation_recovery fits stop short while the solve could not follow a
-// contracting joint: every fold looked hopeless. Now it meets such stretches only where the joint
-// has truly lost contact.)
+// contracting joint: every fold looked hopeless. Now it meets such stretches mostly where the joint
+// has lost contact; a fold increment that the scan and the halving both miss still turns them off
+// for the next 15.) Where no consistent stress exists the law falls back to its explicit update,
+// whose normal stress also falls as the joint opens: the bracket (search 2) can meet the target on
+// it, a wrong answer that is not counted as a miss (the law reports no strength to check it by).
 bool ElementDriver::solve_substepped(const ElementStage& stage, double du_s, double dt, int depth, bool may_split) {
   constexpr int kMaxDepth = 6;
   const Snapshot before = snapshot();

@@ -162,7 +162,7 @@ grep -q "my notes" "$tmp/mine/notes.txt" || { echo "FAIL diag_report_foreign: th
 expect diag_overwrite_alone 2 diagnose --data "$tmp/forward.csv" --law mohr_coulomb --overwrite -- \
   "--overwrite goes with --json or --report"
 
-# A joint that would lift off within one fitting step (Continuously-Yielding on the first 1,200
+# A joint whose normal solve missed within one fitting step (Continuously-Yielding on the first 1,200
 # rows of test 14's twin: at 0.05 mm with the stiff default kn it fell to 0 MPa, the baseline
 # "failed at the fitting step" and the effect's fit from the baseline's values could not be run)
 # is solved there (the element driver's normal solve follows a contracting joint's rising branch
