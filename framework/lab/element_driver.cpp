@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include "framework/core/error.hpp"
+#include "framework/core/root_finding.hpp"
 #include "framework/core/units.hpp"
 
 namespace rockdem {
@@ -152,7 +153,6 @@ void ElementDriver::reset() {
   steps_ = unconverged_ = 0;
   hopeless_ = false;
   skipped_ = 0;
-  max_iter_used_ = 0;
 }
 
 long ElementDriver::count_increments(const ShearPath& path) const {
@@ -201,9 +201,7 @@ void ElementDriver::solve_normal(const ElementStage& stage, double du_s, double 
   //      test 14's twin with Mohr-Coulomb and reversible dilation, at 2.5 times the cost of a miss.
   double best_x = last_du_n_;
   double best_g = residual(best_x);
-  int evaluations = 1;
   auto consider = [&](double xv, double gv) {
-    ++evaluations;
     if (std::abs(gv) < std::abs(best_g)) {
       best_x = xv;
       best_g = gv;
@@ -255,28 +253,14 @@ void ElementDriver::solve_normal(const ElementStage& stage, double du_s, double 
     }
   }
   if (!done && scan) {  // 3. scan for a continuous sign change
-    // Illinois: regula falsi that halves the stale end's value when one end keeps its place.
-    auto refine = [&](double a, double ga, double b, double gb) {
-      int kept = 0;  // +1: a kept its place last time, -1: b did
-      for (int it = 0; it < opt_.max_iterations; ++it) {
-        double c = (a * gb - b * ga) / (gb - ga);
-        if (!(c > std::min(a, b) && c < std::max(a, b))) c = 0.5 * (a + b);
-        const double gc = residual(c);
-        if (consider(c, gc)) return true;
-        if ((gc > 0.0) == (gb > 0.0)) {
-          b = c;
-          gb = gc;
-          if (kept == 1) ga *= 0.5;
-          kept = 1;
-        } else {
-          a = c;
-          ga = gc;
-          if (kept == -1) gb *= 0.5;
-          kept = -1;
-        }
-        if (std::abs(b - a) <= 4.0 * std::numeric_limits<double>::epsilon() * std::abs(c)) return false;  // a jump
-      }
-      return false;
+    // A sign change is refined by the Illinois method (framework/core/root_finding.hpp). It stops
+    // at a point that meets the tolerance, or when the bracket has shrunk to rounding: then the
+    // sign change is a jump (the fold's two branches), not a root. The width's floor (rounding of
+    // the window) ends a jump at du_n = 0 as soon as one elsewhere.
+    auto refine = [&](double a, double ga, double b, double gb, double width) {
+      root_finding::Bracket br{a, ga, b, gb};
+      constexpr double kEps = std::numeric_limits<double>::epsilon();
+      return root_finding::illinois(residual, br, opt_.max_iterations, 4.0 * kEps * width, 4.0 * kEps, consider);
     };
     constexpr int kPoints = 8;  // per side of each window
     double w = std::max(std::abs(du_s), 1e-9 * std::max(std::abs(x0), 1e-6));
@@ -288,7 +272,7 @@ void ElementDriver::solve_normal(const ElementStage& stage, double du_s, double 
         const double xq = x0 + w * i / kPoints;
         const double gq = residual(xq);
         done = consider(xq, gq);
-        if (!done && (gp > 0.0) != (gq > 0.0)) done = refine(xp, gp, xq, gq);
+        if (!done && (gp > 0.0) != (gq > 0.0)) done = refine(xp, gp, xq, gq, w);
         xp = xq;
         gp = gq;
       }
@@ -298,12 +282,10 @@ void ElementDriver::solve_normal(const ElementStage& stage, double du_s, double 
       const double h = 1e-6 * std::max(std::abs(best_x), std::abs(du_s)) + 1e-15;
       const double x_root = best_x, g_root = best_g;
       const double s = (residual(x_root + h) - g_root) / h;
-      ++evaluations;
       if (std::isfinite(s) && s != 0.0) slope = s;
     }
   }
   if (!done) ++unconverged_;
-  max_iter_used_ = std::max(max_iter_used_, evaluations);
   if (k.du_n != best_x) residual(best_x);  // make `trial`/`rr` the accepted solution
   state_ = trial;
   r_ = rr;

@@ -91,7 +91,6 @@ class ElementDriver {
   double block_velocity() const { return v_block_; }            // with a frame [m/s]
   long steps() const { return steps_; }
   long unconverged_steps() const { return unconverged_; }  // normal solve above tolerance
-  int max_iterations_used() const { return max_iter_used_; }
 
   // Number of increments a stage's path takes (used to reserve output rows).
   long count_increments(const ShearPath& path) const;
@@ -131,7 +130,6 @@ class ElementDriver {
   // and the halving (but every 16th) until one meets it.
   bool hopeless_ = false;
   long skipped_ = 0;
-  int max_iter_used_ = 0;
   double u_load_ = 0.0, v_block_ = 0.0;  // frame load point [m] and block velocity [m/s]
 };
 

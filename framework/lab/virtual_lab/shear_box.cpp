@@ -6,6 +6,7 @@
 #include <string>
 
 #include "framework/core/error.hpp"
+#include "framework/core/root_finding.hpp"
 #include "framework/lab/virtual_lab/rough_profile.hpp"
 
 namespace rockdem::vlab {
@@ -377,24 +378,16 @@ void ShearBox::quasi_static_step(double u) {
     ds = slope < 0.0 ? std::min(0.5 * surf_.grid, -1.5 * g0 / slope) : 0.5 * surf_.grid;
     ds = std::max(ds, 1e-12);
   }
-  int side = 0;
-  double fa = g0, fb = g1;
-  for (int it = 0; it < 60 && g1 < -tol && std::abs(s1 - s0) > 1e-13; ++it) {
-    const double sm = (s0 * fb - s1 * fa) / (fb - fa);
-    const double gm = g(sm);
-    last = sm;
-    if (gm > 0.0) {
-      s0 = sm;
-      fa = gm;
-      if (side == 1) fb *= 0.5;
-      side = 1;
-    } else {
-      s1 = sm;
-      g1 = gm;
-      fb = gm;
-      if (side == -1) fa *= 0.5;
-      side = -1;
-    }
+  if (g1 < -tol && std::abs(s1 - s0) > 1e-13) {
+    // g(s0) > 0 > g(s1): refine to a point where the contact just holds, -tol <= g <= 0 (the end
+    // kept is the one with g <= 0).
+    root_finding::Bracket br{s0, g0, s1, g1};
+    auto gl = [&](double s) {
+      last = s;
+      return g(s);
+    };
+    root_finding::illinois(gl, br, 60, 1e-13, 0.0, [tol](double, double gs) { return gs <= 0.0 && gs >= -tol; });
+    s1 = br.b;
   }
   if (last != s1) evaluate(s1);
   s_ = s1;
