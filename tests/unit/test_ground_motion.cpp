@@ -25,8 +25,21 @@ RecordLayout layout_of(const std::string& column, const std::string& unit) {
   return l;
 }
 
+// The records these tests write go into one folder of this process, removed when it exits (they
+// were left in /tmp, a handful per run).
+struct Scratch {
+  std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("rockdem_gm_" + std::to_string(::getpid()));
+  Scratch() { std::filesystem::create_directories(dir); }
+  ~Scratch() {
+    std::error_code ec;
+    std::filesystem::remove_all(dir, ec);
+  }
+};
+
 std::string write_text(const std::string& name, const std::string& text) {
-  const auto p = std::filesystem::temp_directory_path() / ("rockdem_gm_" + std::to_string(::getpid()) + "_" + name);
+  static const Scratch scratch;
+  const auto p = scratch.dir / name;
   std::ofstream(p) << text;
   return p.string();
 }
