@@ -134,7 +134,7 @@ void report_open(State& s, JointResponse& r) {
 // `guess` starts the iteration (the normal stress before the increment is a good one: under a
 // constant normal load it is the answer); the result does not depend on it beyond the tolerance.
 // The tolerance scales with the larger of the trial stress and the current iterate (the first
-// probe with the larger of the trial stress and the guess): a strongly contracting increment can
+// probe with the larger of the trial stress and the guess): a strongly dilating increment can
 // leave a trial stress of a few Pa beside an answer of MPa, and a tolerance taken from the trial
 // stress alone would then lie below the rounding of the answer (the solve would never stop and
 // fall back to the trial stress, a jump of MPa). For the same reason a secant lost to rounding
@@ -144,31 +144,39 @@ template <class Step>
 double consistent_sigma(double sigma_trial, double guess, Step&& step) {
   double s0 = std::isfinite(guess) ? guess : sigma_trial;
   const double scale = std::max(std::abs(sigma_trial), std::abs(s0)) + 1.0;
-  auto tol = [sigma_trial](double s) { return 1e-12 * (std::max(std::abs(sigma_trial), std::abs(s)) + 1.0); };
+  // A point is accepted only where both it and its residual are finite: a relative tolerance
+  // would otherwise take an infinite iterate (an effect's normal stress at its closure limit).
+  auto accept = [sigma_trial](double s, double h) {
+    return std::isfinite(s) && std::isfinite(h) &&
+           std::abs(h) <= 1e-12 * (std::max(std::abs(sigma_trial), std::abs(s)) + 1.0);
+  };
   double h0 = step(s0) - s0;
-  if (!(std::abs(h0) > tol(s0))) return s0;
-  // The first probe is the fixed-point step, at least 1e-9 of the scale so that the secant slope
-  // it gives is not rounding.
-  const double min_probe = 1e-9 * scale;
-  double s1 = s0 + (std::abs(h0) >= min_probe ? h0 : std::copysign(min_probe, h0));
-  double h1 = step(s1) - s1;
-  double slope = std::numeric_limits<double>::quiet_NaN();
-  for (int it = 0; it < 40; ++it) {
-    if (std::abs(h1) <= tol(s1)) return s1;
-    const double next = (h1 - h0) / (s1 - s0);
-    if (std::isfinite(next) && next != 0.0) {
-      slope = next;
-    } else if (!std::isfinite(slope)) {
-      break;  // no slope yet and none to keep
-    }
-    const double s2 = s1 - h1 / slope;
-    if (!std::isfinite(s2) || s2 == s1) break;
-    s0 = s1;
-    h0 = h1;
-    s1 = s2;
+  if (accept(s0, h0)) return s0;
+  double h1 = h0, s1 = s0;
+  if (std::isfinite(h0)) {
+    // The first probe is the fixed-point step, at least 1e-9 of the scale so that the secant
+    // slope it gives is not rounding.
+    const double min_probe = 1e-9 * scale;
+    s1 = s0 + (std::abs(h0) >= min_probe ? h0 : std::copysign(min_probe, h0));
     h1 = step(s1) - s1;
+    double slope = std::numeric_limits<double>::quiet_NaN();
+    for (int it = 0; it < 40 && std::isfinite(h1); ++it) {
+      if (accept(s1, h1)) return s1;
+      const double next = (h1 - h0) / (s1 - s0);
+      if (std::isfinite(next) && next != 0.0) {
+        slope = next;
+      } else if (!std::isfinite(slope)) {
+        break;  // no slope yet and none to keep
+      }
+      const double s2 = s1 - h1 / slope;
+      if (!std::isfinite(s2) || s2 == s1) break;
+      s0 = s1;
+      h0 = h1;
+      s1 = s2;
+      h1 = step(s1) - s1;
+    }
   }
-  if (std::abs(h1) <= tol(s1)) return s1;
+  if (accept(s1, h1)) return s1;
   step(sigma_trial);
   return sigma_trial;
 }
