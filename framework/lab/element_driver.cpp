@@ -257,13 +257,13 @@ void ElementDriver::solve_normal(const ElementStage& stage, double du_s, double 
     // at a point that meets the tolerance, or when the bracket has shrunk to rounding: then the
     // sign change is a jump (the fold's two branches), not a root. The width's floor (rounding of
     // the window) ends a jump at du_n = 0 as soon as one elsewhere.
-    auto refine = [&](double a, double ga, double b, double gb, double width) {
-      root_finding::Bracket br{a, ga, b, gb};
-      constexpr double kEps = std::numeric_limits<double>::epsilon();
-      return root_finding::illinois(residual, br, opt_.max_iterations, 4.0 * kEps * width, 4.0 * kEps, consider);
-    };
     constexpr int kPoints = 8;  // per side of each window
     double w = std::max(std::abs(du_s), 1e-9 * std::max(std::abs(x0), 1e-6));
+    auto refine = [&](double a, double ga, double b, double gb) {
+      root_finding::Bracket br{a, ga, b, gb};
+      constexpr double kEps = std::numeric_limits<double>::epsilon();
+      return root_finding::illinois(residual, br, opt_.max_iterations, 4.0 * kEps * w, 4.0 * kEps, consider);
+    };
     for (int window = 0; window < 2 && !done; ++window, w *= 4.0) {
       double xp = x0 - w;
       double gp = residual(xp);
@@ -272,7 +272,7 @@ void ElementDriver::solve_normal(const ElementStage& stage, double du_s, double 
         const double xq = x0 + w * i / kPoints;
         const double gq = residual(xq);
         done = consider(xq, gq);
-        if (!done && (gp > 0.0) != (gq > 0.0)) done = refine(xp, gp, xq, gq, w);
+        if (!done && (gp > 0.0) != (gq > 0.0)) done = refine(xp, gp, xq, gq);
         xp = xq;
         gp = gq;
       }

@@ -143,7 +143,6 @@ void report_open(State& s, JointResponse& r) {
 template <class Step>
 double consistent_sigma(double sigma_trial, double guess, Step&& step) {
   double s0 = std::isfinite(guess) ? guess : sigma_trial;
-  const double scale = std::max(std::abs(sigma_trial), std::abs(s0)) + 1.0;
   // A point is accepted only where both it and its residual are finite: a relative tolerance
   // would otherwise take an infinite iterate (an effect's normal stress at its closure limit).
   auto accept = [sigma_trial](double s, double h) {
@@ -156,7 +155,7 @@ double consistent_sigma(double sigma_trial, double guess, Step&& step) {
   if (std::isfinite(h0)) {
     // The first probe is the fixed-point step, at least 1e-9 of the scale so that the secant
     // slope it gives is not rounding.
-    const double min_probe = 1e-9 * scale;
+    const double min_probe = 1e-9 * (std::max(std::abs(sigma_trial), std::abs(s0)) + 1.0);
     s1 = s0 + (std::abs(h0) >= min_probe ? h0 : std::copysign(min_probe, h0));
     h1 = step(s1) - s1;
     double slope = std::numeric_limits<double>::quiet_NaN();

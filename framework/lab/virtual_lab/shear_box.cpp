@@ -356,20 +356,20 @@ void ShearBox::quasi_static_step(double u) {
   // g > 0: the chain pushes harder than the contact resists in direction d; slide on. March in
   // steps of at most half a grid step (so no asperity is jumped over), then bracket the first
   // point where g <= 0 (regula falsi, Illinois variant).
+  double last = s_;  // the point the contacts were last evaluated at
   auto g = [&](double s) {
     evaluate(s);
+    last = s;
     return d * (k * (u - s) - horizontal(d * mu));
   };
   const double tol = 1e-10 * std::max(sigma_, 1e3);
   const double s_start = s_;
   double s0 = s_, g0 = d * (trial - (d > 0 ? rf : rb));
   double s1 = s0, g1 = g0;
-  double last = s0;
   double ds = std::min(0.5 * surf_.grid, g0 / k);
   for (long it = 0; it < 10000000; ++it) {
     s1 = s0 + d * ds;
     g1 = g(s1);
-    last = s1;
     if (g1 <= tol) break;
     // Still pushed on: aim 1.5 times past the secant's root to bracket it in few evaluations.
     const double slope = (g1 - g0) / ds;
@@ -382,11 +382,7 @@ void ShearBox::quasi_static_step(double u) {
     // g(s0) > 0 > g(s1): refine to a point where the contact just holds, -tol <= g <= 0 (the end
     // kept is the one with g <= 0).
     root_finding::Bracket br{s0, g0, s1, g1};
-    auto gl = [&](double s) {
-      last = s;
-      return g(s);
-    };
-    root_finding::illinois(gl, br, 60, 1e-13, 0.0, [tol](double, double gs) { return gs <= 0.0 && gs >= -tol; });
+    root_finding::illinois(g, br, 60, 1e-13, 0.0, [tol](double, double gs) { return gs <= 0.0 && gs >= -tol; });
     s1 = br.b;
   }
   if (last != s1) evaluate(s1);
