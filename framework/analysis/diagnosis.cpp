@@ -699,7 +699,8 @@ class DiagnosisRun {
   }
 
   // An effect none of whose parameters changes the model on this record (and that did not lower
-  // the error) cannot be judged either.
+  // the error), or one without free parameters that leaves the error unchanged, cannot be judged
+  // either.
   void mark_insensitive_effects() {
     for (auto& t : d_.ranking) {
       if (!t.fitted || !t.judged) continue;
@@ -712,6 +713,12 @@ class DiagnosisRun {
       if (any_free && !any_sensitive && !(t.fit.rss < 0.999 * d_.baseline.rss)) {
         t.judged = false;
         t.reason = "its parameters do not change the model on this record";
+      } else if (!any_free && std::abs(t.fit.rss - d_.baseline.rss) <= 1e-6 * d_.baseline.rss) {
+        // An effect with nothing to fit (directional_wear's bins and extent are the user's
+        // discretisation) that leaves the error as it was: e.g. wear of a base law without
+        // roughness (Mohr-Coulomb's constant friction and dilation angle have nothing to wear).
+        t.judged = false;
+        t.reason = "it does not change the model on this record (no parameter to fit, and the error is unchanged)";
       }
     }
   }
@@ -867,6 +874,12 @@ LadderDecision judge_rung(std::size_t step, const std::string& effect, const Cal
   } else if (!(fit.nrmse[2] < before.nrmse[2])) {
     std::snprintf(buf, sizeof buf, "lowers the IC (%+.1f) but raises the combined NRMSE from %.4f to %.4f: not added",
                   dec.delta_ic, dec.nrmse_before, dec.nrmse_after);
+  } else if (!(fit.nrmse[2] < (1.0 - kLadderMinCut) * before.nrmse[2])) {
+    // A refit that moves the error by rounding only (an effect that changes nothing, whose IC
+    // falls by -0.0) is not a lowering the report can show.
+    std::snprintf(buf, sizeof buf,
+                  "lowers the IC (%+.1f) but the combined NRMSE by less than %.1f %% (from %.4f to %.4f): not added",
+                  dec.delta_ic, 100.0 * kLadderMinCut, dec.nrmse_before, dec.nrmse_after);
   } else {
     dec.added = true;
     std::snprintf(buf, sizeof buf, "lowers the IC (%+.1f with n_eff = %.0f) and the combined NRMSE from %.4f to %.4f",

@@ -221,9 +221,14 @@ struct Diagnosis {
 
 Diagnosis diagnose(const MeasurementFile& data, const Segmentation& seg, const DiagnosisOptions& options);
 
+// The smallest relative cut of the combined NRMSE that counts as lowering it (0.1 %): below it a
+// refit has only moved the error by rounding (an effect that changes nothing still "lowers" the
+// IC by -0.0 and the error in its last digits; the broad blind test caught such a rung).
+inline constexpr double kLadderMinCut = 1e-3;
+
 // The ladder's rule for one candidate rung: `fit` (the chain with `effect` added, residuals
 // `fit_size`) against `before` (the chain without it, `before_size`) is added when it lowers both
-// the IC (delta_ic) and the combined NRMSE.
+// the IC (delta_ic) and the combined NRMSE, the latter by at least kLadderMinCut of it.
 LadderDecision judge_rung(std::size_t step, const std::string& effect, const CalibrationResult& fit,
                           const EffectiveSize& fit_size, const CalibrationResult& before, const EffectiveSize& before_size);
 

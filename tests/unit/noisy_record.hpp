@@ -8,8 +8,23 @@
 
 #include "framework/io/measurement_csv.hpp"
 #include "framework/lab/element_driver.hpp"
+#include "framework/plugin_api/joint_law.hpp"
 
 namespace rockdem::testutil {
+
+// Tuff-like joints of the diagnosis tests (clean controls, the broad blind test): Barton-Bandis with
+// reversible dilation and Continuously-Yielding with monotonic dilation.
+inline RawValues barton_bandis_joint() {
+  auto q = [](const char* text) { return RawValue{std::string(text), "test"}; };
+  return {{"kn", q("40 GPa/m")}, {"ks", q("12 GPa/m")},         {"jrc", q("8")},
+          {"jcs", q("120 MPa")}, {"residual_friction", q("30 deg")}, {"lab_length", q("0.2 m")},
+          {"dilation", q("reversible")}};
+}
+inline RawValues continuously_yielding_joint() {
+  auto q = [](const char* text) { return RawValue{std::string(text), "test"}; };
+  return {{"kn", q("40 GPa/m")},      {"ks", q("15 GPa/m")},   {"initial_friction", q("50 deg")},
+          {"friction", q("32 deg")}, {"roughness", q("3 mm")}, {"dilation", q("monotonic")}};
+}
 
 inline MeasurementFile noisy_two_stage_record(const JointModel& model, double max_step, int output_every, bool one_sided,
                                               unsigned seed, double noise_scale = 1.0) {

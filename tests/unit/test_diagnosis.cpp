@@ -173,6 +173,15 @@ TEST(Diagnosis, ARungMustLowerTheIcAndTheReportedError) {
   const LadderDecision e = judge_rung(2, "two_order_roughness", error_up, size(5.0, 20.0), before, size(10.0, 20.0));
   EXPECT_FALSE(e.added);
   EXPECT_NE(e.reason.find("raises the combined NRMSE from 0.1050 to 0.1150: not added"), std::string::npos) << e.reason;
+  // An IC that falls (here by the parameters' penalty, none added) with an error that moves only in
+  // its last digits: no rung.
+  const CalibrationResult same = fit(10.0 * (1.0 - 1e-9), 3, 0.105 * (1.0 - 1e-9));
+  const LadderDecision unchanged = judge_rung(1, "directional_wear", same, size(10.0 * (1.0 - 1e-9), 20.0), before, size(10.0, 20.0));
+  EXPECT_LT(unchanged.delta_ic, 0.0);
+  EXPECT_FALSE(unchanged.added) << unchanged.reason;
+  EXPECT_NE(unchanged.reason.find("by less than 0.1 %"), std::string::npos) << unchanged.reason;
+  const CalibrationResult small = fit(9.9, 3, 0.105 * (1.0 - 2e-3));  // 0.2 %: a cut
+  EXPECT_TRUE(judge_rung(1, "directional_wear", small, size(9.9, 20.0), before, size(10.0, 20.0)).added);
   // Two variables: shear stress cut 25-fold (its residuals worth 20), normal displacement all noise
   // (rss 30 over 500 white residuals, unchanged): the summed squares fall from 40 to 30.4, counted
   // with the 520 independent values the refit leaves: 520 ln(30.4/40) + 2 ln 520 = -130.
@@ -521,21 +530,8 @@ TEST(Diagnosis, CleanRecordsOfEachBaseLawGetNoEffect) {
   };
   const std::vector<Law> laws{
       {"mohr_coulomb", kMc},
-      {"barton_bandis",
-       {{"kn", q("40 GPa/m")},
-        {"ks", q("12 GPa/m")},
-        {"jrc", q("8")},
-        {"jcs", q("120 MPa")},
-        {"residual_friction", q("30 deg")},
-        {"lab_length", q("0.2 m")},
-        {"dilation", q("reversible")}}},
-      {"continuously_yielding",
-       {{"kn", q("40 GPa/m")},
-        {"ks", q("15 GPa/m")},
-        {"initial_friction", q("50 deg")},
-        {"friction", q("32 deg")},
-        {"roughness", q("3 mm")},
-        {"dilation", q("monotonic")}}},
+      {"barton_bandis", testutil::barton_bandis_joint()},
+      {"continuously_yielding", testutil::continuously_yielding_joint()},
   };
   for (const Law& law : laws) {
     auto model = make_joint_model(law.name, law.values, {}, "test");
