@@ -713,12 +713,13 @@ class DiagnosisRun {
       if (any_free && !any_sensitive && !(t.fit.rss < 0.999 * d_.baseline.rss)) {
         t.judged = false;
         t.reason = "its parameters do not change the model on this record";
-      } else if (!any_free && std::abs(t.fit.rss - d_.baseline.rss) <= 1e-6 * d_.baseline.rss) {
+      } else if (!any_free && std::abs(t.fit.rss - d_.baseline.rss) < 1e-3 * d_.baseline.rss) {
         // An effect with nothing to fit (directional_wear's bins and extent are the user's
         // discretisation) that leaves the error as it was: e.g. wear of a base law without
         // roughness (Mohr-Coulomb's constant friction and dilation angle have nothing to wear).
         t.judged = false;
-        t.reason = "it does not change the model on this record (no parameter to fit, and the error is unchanged)";
+        // (Within 0.1 %: the law's refit alongside it may go a little further than the baseline's.)
+        t.reason = "it does not change the model on this record (no parameter to fit, and the error moves by less than 0.1 %)";
       }
     }
   }
@@ -810,16 +811,24 @@ class DiagnosisRun {
     for_each_parallel(next.size(), o2, [&](std::size_t i) {
       std::vector<std::string> chain = cur.effects;
       chain.push_back(next[i]->effect);
-      CalibrationOptions o = options_for(chain, cur.fit, std::max(1, options_.threads / o2));
+      // Two starts for the new effect's parameters, the lower RSS kept: the values it took alone
+      // (warm), and its defaults. Alone it may have bent to stand in for the effect now below it
+      // in the chain (reverse_shear_degradation's weight at its bound of 10 where
+      // dilation_recovery was missing; on top of it, from there, the fit stalled at 45 times the
+      // noise; seeds 5, 31 and 34 of the broad blind test).
+      const CalibrationOptions cold = options_for(chain, cur.fit, std::max(1, options_.threads / o2));
+      CalibrationOptions warm = cold;
       for (const auto& p : next[i]->fit.params)
-        if (p.owner == next[i]->effect) o.start[p.name] = p.value;
-      try {
-        fits[i] = calibrate(data_, seg_, o);
-        count_parameters(fits[i], law_free_.size(), chain);
-        ok[i] = true;
-      } catch (const std::exception&) {
-        ok[i] = false;
+        if (p.owner == next[i]->effect) warm.start[p.name] = p.value;
+      for (const CalibrationOptions* o : {static_cast<const CalibrationOptions*>(&warm), &cold}) {
+        try {
+          CalibrationResult r = calibrate(data_, seg_, *o);
+          if (!ok[i] || r.rss < fits[i].rss) fits[i] = std::move(r);
+          ok[i] = true;
+        } catch (const std::exception&) {
+        }
       }
+      if (ok[i]) count_parameters(fits[i], law_free_.size(), chain);
     });
     std::vector<std::size_t> order;
     for (std::size_t i = 0; i < next.size(); ++i)

@@ -458,11 +458,19 @@ void ElementDriver::run(const std::vector<ElementStage>& stages, MeasurementFile
     const long n = count_increments(st.path);
     const double t0 = time_;
     long i = 0;
+    double last_du = 0.0;  // the last increment that moved
+    bool written = true;   // the state after the last increment is in `out`
     for_each_increment(st.path, load_point(), opt_.max_step, [&](double du, double dt, double t) {
+      // A reversal is written whatever output_every: a record thinned past its turning points
+      // would, read back (compare, calibrate), reverse short of where the joint did, and the
+      // elastic unloading from there differs by ks times the missed offset.
+      if (du * last_du < 0.0 && !written) append_row(out, number);
+      if (du != 0.0) last_du = du;
       step(st, du, dt);
       time_ = t0 + t;  // the path's time, free of the rounding of summed increments
       ++i;
-      if (i % opt_.output_every == 0 || i == n) append_row(out, number);
+      written = i % opt_.output_every == 0 || i == n;
+      if (written) append_row(out, number);
     });
     ++number;
   }
