@@ -20,7 +20,8 @@
 //      of an autocorrelated series (reviewed by Bretherton et al. 1999), r1_v the lag-1
 //      autocorrelation of variable v's residual within stages left by the chain with the effect
 //      (the larger of two nested models estimates the noise); then climb a ladder: add the best
-//      effect while the IC and the combined NRMSE the report shows both fall;
+//      effect while the IC and the combined NRMSE the report shows both fall (the NRMSE by 0.1 % or
+//      more), each new effect fitted from two starts (its lone fit's values and its defaults);
 //   5. JSON (to_json) and, with a report folder, the files plotted by scripts/plot_diagnosis.py.
 // Effects that the record cannot reveal (no reverse shearing, one side only, one rate, ...; each
 // effect says so itself from the record's features) are named with the reason and kept out of

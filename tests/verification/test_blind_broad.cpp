@@ -87,8 +87,8 @@ const std::vector<Protocol>& protocols() {
 }
 
 // Today's measurement over seeds 1-60 (the gate below): hits, clean records left alone, first rungs
-// that cut the error 3x or to the noise.
-constexpr std::size_t kGateHits = 57, kGateClean = 17, kGateCut = 37;
+// that cut the error 3x or to the noise, last rungs at the noise (within twice the ceiling).
+constexpr std::size_t kGateHits = 57, kGateClean = 18, kGateCut = 37, kGateFloor = 39;
 
 constexpr double kStep = 2.5e-5;  // element increment [m]
 constexpr double kV = 4.2e-5;     // the report's pseudostatic rate [m/s]
@@ -172,6 +172,7 @@ struct Outcome {
   bool hit = false;           // see the file's head
   bool first_ranked = false;  // a hidden effect ranked first
   bool cut = false;           // the first rung's cut (see below)
+  bool floor = false;         // the last rung within twice the ceiling
 };
 
 }  // namespace
@@ -218,7 +219,10 @@ TEST(BlindBroad, DrawnLawProtocolAndEffectsAreFound) {
     DiagnosisOptions o;
     o.base.law = law.name;
     o.base.law_values["dilation"] = law.values.at("dilation");
-    o.base.law_values["kn"] = law.values.at("kn");  // fixed: measured in a normal loading test
+    // What a user measures apart and gives (the law fixes them by default): kn from a normal loading
+    // test, Barton-Bandis's JCS (Schmidt hammer) and the specimen's length.
+    for (const char* measured : {"kn", "jcs", "lab_length"})
+      if (law.values.count(measured)) o.base.law_values[measured] = law.values.at(measured);
     o.base.element.max_step = kStep;
     o.base.element.length = 0.2;
     o.base.fit_step = kStep;
@@ -251,6 +255,7 @@ TEST(BlindBroad, DrawnLawProtocolAndEffectsAreFound) {
     // The cut: the first rung divides the combined NRMSE by 3 or more, unless the noise
     // leaves less to cut (first rung within twice the ceiling).
     o1.cut = !effects.empty() && (after <= before / 3.0 || after <= 2.0 * ceiling);
+    o1.floor = !effects.empty() && d.ladder.back().fit.nrmse[2] <= 2.0 * ceiling;
     outcomes.push_back(o1);
     std::printf("  %s: ranked first %s; ladder %s; combined NRMSE %.4f, first rung %.4f, last %.4f, ceiling %.4f, %.1f s\n",
                 o1.hit ? "hit" : "MISS", first.c_str(), joined(added).c_str(), before, after, d.ladder.back().fit.nrmse[2], ceiling,
@@ -263,18 +268,20 @@ TEST(BlindBroad, DrawnLawProtocolAndEffectsAreFound) {
     std::fflush(stdout);
   }
   std::array<std::size_t, 3> draws{}, hits{};
-  std::size_t first_ranked = 0, cut = 0;
+  std::size_t first_ranked = 0, cut = 0, floor = 0;
   for (const auto& o : outcomes) {
     ++draws[o.hidden];
     hits[o.hidden] += o.hit;
     first_ranked += o.first_ranked;
     cut += o.cut;
+    floor += o.floor;
   }
   const std::size_t with_effect = draws[1] + draws[2], total_hits = hits[0] + hits[1] + hits[2];
   std::printf("blind broad, %zu draws: hits %zu; clean records left alone %zu of %zu; one hidden effect found %zu of %zu; "
-              "two found %zu of %zu; a hidden effect ranked first %zu of %zu; first rung cut 3x (or to the noise) %zu of %zu\n",
+              "two found %zu of %zu; a hidden effect ranked first %zu of %zu; first rung cut 3x (or to the noise) %zu of %zu; "
+              "last rung within twice the ceiling %zu of %zu\n",
               outcomes.size(), total_hits, hits[0], draws[0], hits[1], draws[1], hits[2], draws[2], first_ranked, with_effect,
-              cut, with_effect);
+              cut, with_effect, floor, with_effect);
   // The suite's gate is today's measurement over its 60 draws (docs/validation.md, section 3, lists
   // the misses; the targets of 95 % are not all met). A change that loses a hit fails here;
   // one that gains hits should raise these numbers. Other seeds (ROCKDEM_BLIND_SEED[S]) are a
@@ -285,5 +292,6 @@ TEST(BlindBroad, DrawnLawProtocolAndEffectsAreFound) {
     EXPECT_GE(hits[0], kGateClean);
     EXPECT_EQ(first_ranked, with_effect);
     EXPECT_GE(cut, kGateCut);
+    EXPECT_GE(floor, kGateFloor);
   }
 }
