@@ -768,7 +768,7 @@ class DiagnosisRun {
   }
 
   // The ladder: the best single effect, then the best addition to the current chain, while that
-  // lowers both the IC (delta_ic) and the combined NRMSE the report shows. The first rung takes
+  // lowers both the IC (delta_ic) and the combined NRMSE the report shows (by kLadderMinCut or more). The first rung takes
   // only effects that improved the IC alone; later rungs try every judged effect, since one can pay
   // only on top of another (an effect whose shape shows once another has removed the larger
   // misfit). Every candidate tried is recorded with why it was or was not added.
@@ -802,11 +802,11 @@ class DiagnosisRun {
   }
 
   // Fits the current chain plus each of `next`; adds the best by delta_ic among those that lower
-  // both the IC and the combined NRMSE.
+  // both the IC and the combined NRMSE (judge_rung).
   bool add_rung(const std::vector<const EffectTrial*>& next, std::set<std::string>& used) {
     const LadderStep& cur = d_.ladder.back();
     std::vector<CalibrationResult> fits(next.size());
-    std::vector<bool> ok(next.size(), false);
+    std::vector<char> ok(next.size(), 0);  // not vector<bool>: its bits share words across threads
     const int o2 = std::max(1, std::min<int>(options_.threads, static_cast<int>(next.size())));
     for_each_parallel(next.size(), o2, [&](std::size_t i) {
       std::vector<std::string> chain = cur.effects;
@@ -820,15 +820,21 @@ class DiagnosisRun {
       CalibrationOptions warm = cold;
       for (const auto& p : next[i]->fit.params)
         if (p.owner == next[i]->effect) warm.start[p.name] = p.value;
-      for (const CalibrationOptions* o : {static_cast<const CalibrationOptions*>(&warm), &cold}) {
+      std::vector<const CalibrationOptions*> starts{&warm};
+      if (warm.start != cold.start) starts.push_back(&cold);  // nothing to fit, or the lone fit kept the defaults
+      std::optional<CalibrationResult> best;
+      for (const CalibrationOptions* o : starts) {
         try {
           CalibrationResult r = calibrate(data_, seg_, *o);
-          if (!ok[i] || r.rss < fits[i].rss) fits[i] = std::move(r);
-          ok[i] = true;
+          count_parameters(r, law_free_.size(), chain);
+          if (!best || !(best->rss <= r.rss)) best = std::move(r);  // a NaN RSS is replaced
         } catch (const std::exception&) {
         }
       }
-      if (ok[i]) count_parameters(fits[i], law_free_.size(), chain);
+      if (best) {
+        fits[i] = std::move(*best);
+        ok[i] = 1;
+      }
     });
     std::vector<std::size_t> order;
     for (std::size_t i = 0; i < next.size(); ++i)
@@ -925,7 +931,7 @@ nlohmann::json to_json(const Diagnosis& d, const std::string& data_file) {
   j["baseline"] = {{"params", params_json(d.baseline)}, {"nrmse", nrmse_json(d.baseline.nrmse)}, {"bic", d.baseline.bic},
                    {"effective_size", size_json(d.baseline_size)}, {"status", d.baseline.status},
                    {"calibration", to_json(d.baseline)}};
-  j["rung_rule"] = "a rung is added when it lowers the combined NRMSE and IC = n_eff ln(RSS/n) + k ln(n_eff): the BIC "
+  j["rung_rule"] = "a rung is added when it lowers the combined NRMSE (by 0.1 % of it or more) and IC = n_eff ln(RSS/n) + k ln(n_eff): the BIC "
                    "of the range-normalised residuals the fit minimises, with n_eff, the effective number of independent "
                    "residuals that the chain with the effect leaves (AR(1), from their lag-1 autocorrelation within "
                    "stages), in place of the n rows";
@@ -1064,7 +1070,8 @@ std::string format_report(const Diagnosis& d) {
                   s.fit.nrmse[2], s.size.total_n_eff());
     os << buf;
   }
-  // Effects the IC favoured that the ladder left out because the error would have risen, and
+  // Effects the IC favoured that the ladder left out because the error would have risen (or fallen
+  // by less than kLadderMinCut), and
   // effects that a row-counting BIC would have added but the IC does not.
   for (const auto& c : d.decisions)
     if (!c.added && (c.delta_ic < 0.0 || c.delta_bic < 0.0)) {

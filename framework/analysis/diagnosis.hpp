@@ -186,7 +186,7 @@ struct LadderStep {
 };
 
 // Why the ladder took, or did not take, an effect at one step: a rung must lower the IC
-// (delta_ic) and the combined NRMSE the report shows.
+// (delta_ic) and the combined NRMSE the report shows (by kLadderMinCut of it or more).
 struct LadderDecision {
   std::size_t step = 0;        // the rung it was tried for (1: the first effect)
   std::string effect;

@@ -458,14 +458,16 @@ void ElementDriver::run(const std::vector<ElementStage>& stages, MeasurementFile
     const long n = count_increments(st.path);
     const double t0 = time_;
     long i = 0;
-    double last_du = 0.0;  // the last increment that moved
-    bool written = true;   // the state after the last increment is in `out`
+    int last_sign = 0;    // of the last increment: +1, -1, or 0 (held)
+    bool written = true;  // the state after the last increment is in `out`
     for_each_increment(st.path, load_point(), opt_.max_step, [&](double du, double dt, double t) {
-      // A reversal is written whatever output_every: a record thinned past its turning points
-      // would, read back (compare, calibrate), reverse short of where the joint did, and the
-      // elastic unloading from there differs by ks times the missed offset.
-      if (du * last_du < 0.0 && !written) append_row(out, number);
-      if (du != 0.0) last_du = du;
+      // A break of the path (a reversal, a stop, a restart) is written whatever output_every: a
+      // record thinned past its turning points would, read back (compare, calibrate), reverse
+      // short of where the joint did, and the elastic unloading from there differs by ks times
+      // the missed offset; a hold whose ends are thinned away reads back as a slow slide.
+      const int sign = (du > 0.0) - (du < 0.0);
+      if (sign != last_sign && !written) append_row(out, number);
+      last_sign = sign;
       step(st, du, dt);
       time_ = t0 + t;  // the path's time, free of the rounding of summed increments
       ++i;

@@ -56,7 +56,7 @@ struct ElementStage {
 struct ElementOptions {
   double max_step = 1e-5;     // largest shear displacement increment [m]
   double length = 1.0;        // joint length handed to the law [m]
-  int output_every = 1;       // write every n-th increment (always: each stage's last, each reversal of the path)
+  int output_every = 1;       // write every n-th increment (always: each stage's last, each reversal, stop and restart of the path)
   double tolerance = 1e-10;   // relative tolerance of the normal condition
   int max_iterations = 60;    // per increment, for the normal solve
   double frame_stiffness = 0.0;  // loading frame spring per unit joint area [Pa/m]; 0 = rigid (off)

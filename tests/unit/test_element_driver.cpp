@@ -180,6 +180,44 @@ TEST(ElementDriver, SinusoidAndFilePaths) {
   }
 }
 
+// Thinned output keeps the path's breaks: with output_every = 7, strokes of 40 increments (not a
+// multiple of 7) still have their turning points at exactly +-1 mm, and a hold's two ends (where
+// the joint stops and where it starts again) are rows, at their times; nothing is written twice.
+TEST(ElementDriver, ThinnedOutputKeepsReversalsStopsAndRestarts) {
+  auto m = model("mohr_coulomb", mc_report());
+  ElementOptions eo;
+  eo.max_step = 2.5e-5;
+  eo.output_every = 7;
+  {
+    ElementDriver d(*m, eo);
+    const auto f = d.run({cnl(3e6, ShearPath::cycles(1e-3, 2, 1e-4))});  // 8 strokes of 40 increments
+    int at_plus = 0, at_minus = 0;
+    for (const auto& r : f.rows) {
+      at_plus += std::abs(r.shear_disp_mm - 1.0) < 1e-12;
+      at_minus += std::abs(r.shear_disp_mm + 1.0) < 1e-12;
+    }
+    EXPECT_EQ(at_plus, 2);
+    EXPECT_EQ(at_minus, 2);
+    for (std::size_t i = 1; i < f.rows.size(); ++i) EXPECT_GT(f.rows[i].time_s, f.rows[i - 1].time_s) << "row " << i;
+    // the start, every 7th of the 320 increments (45), the turning points after increments 40, 120
+    // and 200 (the one after 280 = 7 x 40 is written anyway), the stage's last (320)
+    EXPECT_EQ(f.rows.size(), 1u + 45u + 3u + 1u);
+  }
+  {
+    ElementDriver d(*m, eo);
+    // 1 mm at 0.1 mm/s, held 5 s, 1 mm more: rows at t = 10 s (stopped) and 15 s (moving again)
+    const auto f = d.run({cnl(3e6, ShearPath::table({0.0, 10.0, 15.0, 25.0}, {0.0, 1e-3, 1e-3, 2e-3}))});
+    bool stop = false, restart = false;
+    for (const auto& r : f.rows) {
+      stop = stop || (std::abs(r.time_s - 10.0) < 1e-9 && std::abs(r.shear_disp_mm - 1.0) < 1e-12);
+      restart = restart || (std::abs(r.time_s - 15.0) < 1e-9 && std::abs(r.shear_disp_mm - 1.0) < 1e-12);
+    }
+    EXPECT_TRUE(stop);
+    EXPECT_TRUE(restart);
+    for (std::size_t i = 1; i < f.rows.size(); ++i) EXPECT_GT(f.rows[i].time_s, f.rows[i - 1].time_s) << "row " << i;
+  }
+}
+
 // A full 40 mm cycle at 0.01 mm: 8,001 rows for every law. Its time is recorded as a test property
 // and in docs/performance.md, not asserted (timings belong to benchmarks on a shared machine).
 TEST(ElementDriver, AFull40mmPseudostaticCycleAt001mmRunsThroughForEveryLaw) {
