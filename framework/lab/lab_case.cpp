@@ -41,7 +41,7 @@ struct ElementSettings {
     using P = ElementSettings;
     return {
         real("step", &P::step, Dimension::length, "largest shear displacement increment").positive().def(1e-5),
-        integer("output_every", &P::output_every, 1, "write every n-th increment (each stage's last and each reversal of the path always)").min(1),
+        integer("output_every", &P::output_every, 1, "write every n-th increment (each stage's last, and every reversal, stop and restart of the path, always)").min(1),
         real("frame_stiffness", &P::frame_stiffness, Dimension::stiffness,
              "compliant loading frame: spring between the path's load point and the top block, per unit joint "
              "area; 0 = rigid (the joint follows the path exactly)")
