@@ -654,6 +654,27 @@ class DiagnosisRun {
     });
   }
 
+  // Fits from `warm`, then from `cold` unless it is null, and keeps the lower RSS (a NaN RSS is
+  // replaced); each start's failure goes to its error string. Empty: both failed.
+  std::optional<CalibrationResult> fit_from_two_starts(const CalibrationOptions& warm, const CalibrationOptions* cold,
+                                                       std::string& warm_error, std::string& cold_error) const {
+    std::optional<CalibrationResult> best;
+    try {
+      best = calibrate(data_, seg_, warm);
+    } catch (const std::exception& e) {
+      warm_error = e.what();
+    }
+    if (cold) {
+      try {
+        CalibrationResult r = calibrate(data_, seg_, *cold);
+        if (!best || !(best->rss <= r.rss)) best = std::move(r);
+      } catch (const std::exception& e) {
+        cold_error = e.what();
+      }
+    }
+    return best;
+  }
+
   void fit_trial(EffectTrial& t, int threads) const {
     try {
       // Two starts: warm (the baseline's values, which may have bent to make up for the missing
@@ -664,19 +685,8 @@ class DiagnosisRun {
       const CalibrationOptions warm = options_for({t.effect}, d_.baseline, threads);
       CalibrationOptions cold = warm;
       cold.start.clear();
-      std::optional<CalibrationResult> best;
       std::string warm_error, cold_error;
-      try {
-        best = calibrate(data_, seg_, warm);
-      } catch (const std::exception& e) {
-        warm_error = e.what();
-      }
-      try {
-        CalibrationResult other = calibrate(data_, seg_, cold);
-        if (!best || other.rss < best->rss) best = std::move(other);
-      } catch (const std::exception& e) {
-        cold_error = e.what();
-      }
+      std::optional<CalibrationResult> best = fit_from_two_starts(warm, &cold, warm_error, cold_error);
       if (!best)
         throw InputError("from the baseline's values: " + warm_error + "; from the record's estimates: " + cold_error);
       t.fit = std::move(*best);
@@ -820,19 +830,13 @@ class DiagnosisRun {
       CalibrationOptions warm = cold;
       for (const auto& p : next[i]->fit.params)
         if (p.owner == next[i]->effect) warm.start[p.name] = p.value;
-      std::vector<const CalibrationOptions*> starts{&warm};
-      if (warm.start != cold.start) starts.push_back(&cold);  // nothing to fit, or the lone fit kept the defaults
-      std::optional<CalibrationResult> best;
-      for (const CalibrationOptions* o : starts) {
-        try {
-          CalibrationResult r = calibrate(data_, seg_, *o);
-          count_parameters(r, law_free_.size(), chain);
-          if (!best || !(best->rss <= r.rss)) best = std::move(r);  // a NaN RSS is replaced
-        } catch (const std::exception&) {
-        }
-      }
+      std::string warm_error, cold_error;  // a candidate neither start can fit is left out
+      // (the cold start is skipped where it is the warm one: nothing to fit, or the defaults kept)
+      std::optional<CalibrationResult> best =
+          fit_from_two_starts(warm, warm.start != cold.start ? &cold : nullptr, warm_error, cold_error);
       if (best) {
         fits[i] = std::move(*best);
+        count_parameters(fits[i], law_free_.size(), chain);
         ok[i] = 1;
       }
     });
