@@ -26,6 +26,21 @@ inline RawValues continuously_yielding_joint() {
           {"friction", q("32 deg")}, {"roughness", q("3 mm")}, {"dilation", q("monotonic")}};
 }
 
+// Slides of `slide` [m] at `v` [m/s] in one direction, separated by holds of `holds_s` (in that
+// order): a slide-hold-slide test's shear path.
+inline ShearPath slide_hold_slide_path(double v, double slide, const std::vector<double>& holds_s) {
+  std::vector<double> t{0.0}, u{0.0};
+  for (std::size_t k = 0; k <= holds_s.size(); ++k) {
+    t.push_back(t.back() + slide / v);
+    u.push_back(u.back() + slide);
+    if (k < holds_s.size()) {
+      t.push_back(t.back() + holds_s[k]);
+      u.push_back(u.back());
+    }
+  }
+  return ShearPath::table(t, u);
+}
+
 inline MeasurementFile noisy_two_stage_record(const JointModel& model, double max_step, int output_every, bool one_sided,
                                               unsigned seed, double noise_scale = 1.0) {
   ElementOptions eo;

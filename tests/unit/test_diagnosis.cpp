@@ -314,19 +314,9 @@ MeasurementFile slide_hold_slide(const std::vector<EffectSpec>& effects, const s
   eo.max_step = 2.5e-5;
   eo.length = 0.2;
   ElementDriver d(*model, eo);
-  const double v = 4.2e-5, slide = 2e-3;
-  std::vector<double> t{0.0}, u{0.0};
-  for (std::size_t k = 0; k <= holds_s.size(); ++k) {
-    t.push_back(t.back() + slide / v);
-    u.push_back(u.back() + slide);
-    if (k < holds_s.size()) {
-      t.push_back(t.back() + holds_s[k]);
-      u.push_back(u.back());
-    }
-  }
   std::vector<ElementStage> stages(1);
   stages[0].normal_stress = 2e6;
-  stages[0].path = ShearPath::table(t, u);
+  stages[0].path = testutil::slide_hold_slide_path(4.2e-5, 2e-3, holds_s);
   MeasurementFile f = d.run(stages);
   std::mt19937 rng(seed);
   std::normal_distribution<double> g(0.0, 1.0);

@@ -11,7 +11,8 @@
 // against the noise-free one), from which docs/validation.md's table is made:
 //   ROCKDEM_BLIND_SEEDS=61-200 tests/rockdem_tests --gtest_filter='BlindBroad.*'
 // (ROCKDEM_BLIND_SEED=N runs one draw; ROCKDEM_BLIND_REPORT=1 prints diagnose's report of each
-// draw; ROCKDEM_BLIND_KEEP=FOLDER writes each draw's record there as blind_SEED.csv). The suite runs seeds 1-60 and holds them to today's counts (kGate*).
+// draw; ROCKDEM_BLIND_KEEP=FOLDER writes each draw's record there as blind_SEED.csv). The suite
+// runs seeds 1-60 and holds them to today's counts (kGate*).
 #include <gtest/gtest.h>
 
 #include <array>
@@ -124,18 +125,8 @@ MeasurementFile run_protocol(const JointModel& model, const std::string& protoco
     }
     stage(2e6, ShearPath::table(t, u));
   } else if (protocol == "slide_hold_slide") {  // 2 mm slides, holds of 10, 100 and 1000 s, 2 MPa
-    eo.output_every = 1;  // a hold is one increment (the driver steps in displacement)
-    std::vector<double> t{0.0}, u{0.0};
-    const std::vector<double> holds{10.0, 100.0, 1000.0};
-    for (std::size_t k = 0; k <= holds.size(); ++k) {
-      t.push_back(t.back() + 2e-3 / kV);
-      u.push_back(u.back() + 2e-3);
-      if (k < holds.size()) {
-        t.push_back(t.back() + holds[k]);
-        u.push_back(u.back());
-      }
-    }
-    stage(2e6, ShearPath::table(t, u));
+    eo.output_every = 1;  // every increment kept, as in the slide-hold-slide records of test_diagnosis.cpp
+    stage(2e6, testutil::slide_hold_slide_path(kV, 2e-3, {10.0, 100.0, 1000.0}));
   } else {
     ADD_FAILURE() << "unknown protocol " << protocol;
   }
