@@ -182,6 +182,13 @@ void ElementDriver::solve_normal(const ElementStage& stage, double du_s, double 
     m.update(trial, k, rr);
     return rr.sigma_n - target(du_n);
   };
+  // A normal displacement at which the law found no consistent normal stress (it kept its explicit
+  // update at the trial stress, JointResponse::consistent) can still meet the target: past the
+  // fold, the explicit update's final stress falls as the joint opens, like a true answer's, and
+  // its shear stress is the strength at the trial stress (23 % above the plateau on a stiff joint
+  // recovering dilation). Such a point is a false root: it is never accepted, and searches 1 and 2
+  // stop when they reach one, since both would keep refining it; the scan looks further.
+  bool false_root = false;
   const double tol = opt_.tolerance * std::max(std::abs(stage.normal_stress), 1e3);
   // g(du_n) = sigma_n(du_n) - target(du_n) is usually decreasing (opening unloads the joint), but
   // not always: where a slipping joint's dilation falls with its normal stress faster than kn
@@ -199,21 +206,31 @@ void ElementDriver::solve_normal(const ElementStage& stage, double du_s, double 
   //      sign change across which g is continuous (a jump's sign change is refined and rejected),
   //      refined by the Illinois method. Wider windows (to 256 times) found almost nothing more on
   //      test 14's twin with Mohr-Coulomb and reversible dilation, at 2.5 times the cost of a miss.
+  //      Then the first window again with 8 times the points: where a slipping joint starts to
+  //      contract past the fold, the slipping answer lies on a rise of g narrower than the coarse
+  //      points' spacing, between the open joint (or the false root) and the elastic branch.
   double best_x = last_du_n_;
   double best_g = residual(best_x);
-  auto consider = [&](double xv, double gv) {
-    if (std::abs(gv) < std::abs(best_g)) {
+  auto consider = [&](double xv, double gv) {  // call right after residual(xv)
+    const bool meets = std::abs(gv) <= tol;
+    if (meets && !rr.consistent) {
+      false_root = true;
+      return false;
+    }
+    // An answer is kept; so is, until one is found, the point nearest to meeting the condition
+    // (kept if none is: a miss, counted). A false root is neither.
+    if (meets || std::abs(gv) < std::abs(best_g)) {
       best_x = xv;
       best_g = gv;
     }
-    return std::abs(gv) <= tol;
+    return meets;
   };
   const double x0 = best_x, g0 = best_g;
   double slope = last_slope_ != 0.0 ? last_slope_ : -(std::max(rr.kn, 1.0) + K);  // dg/d(du_n)
-  bool done = std::abs(g0) <= tol;
+  bool done = consider(x0, g0);
   {  // 1. unguarded secant
     double x = x0, g = g0;
-    for (int it = 0; it < 8 && !done; ++it) {
+    for (int it = 0; it < 8 && !done && !false_root; ++it) {
       const double xn = x - g / slope;
       if (!std::isfinite(xn)) break;
       const double gn = residual(xn);
@@ -224,7 +241,7 @@ void ElementDriver::solve_normal(const ElementStage& stage, double du_s, double 
       g = gn;
     }
   }
-  if (!done) {  // 2. bracketed secant, g assumed decreasing: g(lo) > 0 > g(hi)
+  if (!done && !false_root) {  // 2. bracketed secant, g assumed decreasing: g(lo) > 0 > g(hi)
     double lo = -kInf, hi = kInf;
     auto note = [&](double xv, double gv) {
       if (gv > 0.0) lo = std::max(lo, xv);
@@ -232,9 +249,10 @@ void ElementDriver::solve_normal(const ElementStage& stage, double du_s, double 
       return consider(xv, gv);
     };
     double x = x0, g = g0;
-    note(x, g);
+    if (g > 0.0) lo = x;  // the start's bracket side (it was considered above)
+    if (g < 0.0) hi = x;
     double step = g / (last_slope_ < 0.0 ? -last_slope_ : std::max(rr.kn, 1.0) + K);
-    for (int it = 0; it < opt_.max_iterations && !done; ++it) {
+    for (int it = 0; it < opt_.max_iterations && !done && !false_root; ++it) {
       double xn = x + step;
       if (std::isfinite(lo) && std::isfinite(hi) && !(xn > lo && xn < hi)) xn = 0.5 * (lo + hi);
       const double gn = residual(xn);
@@ -257,19 +275,23 @@ void ElementDriver::solve_normal(const ElementStage& stage, double du_s, double 
     // at a point that meets the tolerance, or when the bracket has shrunk to rounding: then the
     // sign change is a jump (the fold's two branches), not a root. The width's floor (rounding of
     // the window) ends a jump at du_n = 0 as soon as one elsewhere.
-    constexpr int kPoints = 8;  // per side of each window
+    constexpr int kPoints = 8;       // per side of each window
+    constexpr int kFinePoints = 64;  // per side of the last pass
     double w = std::max(std::abs(du_s), 1e-9 * std::max(std::abs(x0), 1e-6));
     auto refine = [&](double a, double ga, double b, double gb) {
       root_finding::Bracket br{a, ga, b, gb};
       constexpr double kEps = std::numeric_limits<double>::epsilon();
       return root_finding::illinois(residual, br, opt_.max_iterations, 4.0 * kEps * w, 4.0 * kEps, consider);
     };
-    for (int window = 0; window < 2 && !done; ++window, w *= 4.0) {
+    const double w0 = w;
+    for (int pass = 0; pass < 3 && !done; ++pass) {
+      w = pass == 1 ? 4.0 * w0 : w0;
+      const int points = pass == 2 ? kFinePoints : kPoints;
       double xp = x0 - w;
       double gp = residual(xp);
       done = consider(xp, gp);
-      for (int i = 1 - kPoints; i <= kPoints && !done; ++i) {
-        const double xq = x0 + w * i / kPoints;
+      for (int i = 1 - points; i <= points && !done; ++i) {
+        const double xq = x0 + w * i / points;
         const double gq = residual(xq);
         done = consider(xq, gq);
         if (!done && (gp > 0.0) != (gq > 0.0)) done = refine(xp, gp, xq, gq);
@@ -359,8 +381,9 @@ void ElementDriver::restore(const Snapshot& s) {
 // contracting joint: every fold looked hopeless. Now it meets such stretches mostly where the joint
 // has lost contact; a fold increment that the scan and the halving both miss still turns them off
 // for the next 15.) Where no consistent stress exists the law falls back to its explicit update,
-// whose normal stress also falls as the joint opens: the bracket (search 2) can meet the target on
-// it, a wrong answer that is not counted as a miss (the law reports no strength to check it by).
+// whose normal stress also falls as the joint opens: a search can meet the target on it, a false
+// root that solve_normal rejects by the law's JointResponse::consistent (it was accepted before
+// 2026-11-28); the scan's last, finer pass then finds the slipping answer beside it.
 bool ElementDriver::solve_substepped(const ElementStage& stage, double du_s, double dt, int depth, bool may_split) {
   constexpr int kMaxDepth = 6;
   const Snapshot before = snapshot();

@@ -57,6 +57,12 @@ struct JointResponse {
   double dissipated = 0.0;  // energy dissipated in this increment, per unit area [J/m^2]
   bool slipping = false;
   bool open = false;
+  // False where the law's strength could not be made consistent with the normal stress it ends
+  // at (law_support::consistent_sigma found no fixed point: a contracting joint past the fold,
+  // kn |dilation rate| tan(phi) > ks) and the explicit update at the trial stress was kept, as
+  // UDEC does. The DEM engine takes such an update as it is; the element driver, solving for a
+  // normal stress, does not accept it as meeting the stage's normal condition.
+  bool consistent = true;
 };
 
 // What a base law exposes to effects at the point where it evaluates its shear strength and

@@ -139,9 +139,16 @@ void report_open(State& s, JointResponse& r) {
 // stress alone would then lie below the rounding of the answer (the solve would never stop and
 // fall back to the trial stress, a jump of MPa). For the same reason a secant lost to rounding
 // (two probes whose h differ by nothing) keeps the last slope.
-// Contract: when this returns, the last call made was step(returned value). No allocation.
+// Contract: when this returns, the last call made was step(returned sigma). No allocation.
+// `found` is false where no fixed point was found and the trial stress was kept: the strength
+// was then evaluated at a normal stress other than the one the increment ends at (the law reports
+// it as JointResponse::consistent, so that a driver solving for a normal stress can reject it).
+struct ConsistentStress {
+  double sigma;
+  bool found;
+};
 template <class Step>
-double consistent_sigma(double sigma_trial, double guess, Step&& step) {
+ConsistentStress consistent_sigma(double sigma_trial, double guess, Step&& step) {
   double s0 = std::isfinite(guess) ? guess : sigma_trial;
   // A point is accepted only where both it and its residual are finite: a relative tolerance
   // would otherwise take an infinite iterate (an effect's normal stress at its closure limit).
@@ -150,7 +157,7 @@ double consistent_sigma(double sigma_trial, double guess, Step&& step) {
            std::abs(h) <= 1e-12 * (std::max(std::abs(sigma_trial), std::abs(s)) + 1.0);
   };
   double h0 = step(s0) - s0;
-  if (accept(s0, h0)) return s0;
+  if (accept(s0, h0)) return {s0, true};
   double h1 = h0, s1 = s0;
   if (std::isfinite(h0)) {
     // The first probe is the fixed-point step, at least 1e-9 of the scale so that the secant
@@ -160,7 +167,7 @@ double consistent_sigma(double sigma_trial, double guess, Step&& step) {
     h1 = step(s1) - s1;
     double slope = std::numeric_limits<double>::quiet_NaN();
     for (int it = 0; it < 40 && std::isfinite(h1); ++it) {
-      if (accept(s1, h1)) return s1;
+      if (accept(s1, h1)) return {s1, true};
       const double next = (h1 - h0) / (s1 - s0);
       if (std::isfinite(next) && next != 0.0) {
         slope = next;
@@ -175,21 +182,22 @@ double consistent_sigma(double sigma_trial, double guess, Step&& step) {
       h1 = step(s1) - s1;
     }
   }
-  if (accept(s1, h1)) return s1;
+  if (accept(s1, h1)) return {s1, true};
   step(sigma_trial);
-  return sigma_trial;
+  return {sigma_trial, false};
 }
 
 // One increment's normal stress for the three laws: the trial stress when the increment does not
 // dilate (rate 0), else the consistent one started from the previous normal stress when the joint
 // was closed. Same contract as consistent_sigma: the last call made was step(the answer).
+// Returns whether the answer is consistent (false: the explicit update at the trial stress).
 template <class Step>
-void solve_increment(double rate, double sigma_trial, double previous_sigma, Step&& step) {
+bool solve_increment(double rate, double sigma_trial, double previous_sigma, Step&& step) {
   if (rate == 0.0) {
     step(sigma_trial);  // no dilation: the trial stress is final
-  } else {
-    consistent_sigma(sigma_trial, previous_sigma > 0.0 ? previous_sigma : sigma_trial, step);
+    return true;
   }
+  return consistent_sigma(sigma_trial, previous_sigma > 0.0 ? previous_sigma : sigma_trial, step).found;
 }
 
 }  // namespace rockdem::law_support

@@ -248,7 +248,7 @@ void BartonBandis::update(const Params& p, const Derived& d, State& s, const Joi
     ddil = rate * travel;
     return cl.sigma(v_tr + ddil);
   };
-  law_support::solve_increment(rate, sigma_tr, s.sigma_n, step);
+  const bool consistent = law_support::solve_increment(rate, sigma_tr, s.sigma_n, step);
 
   // No tensile strength: open if the closure after the increment's dilation is negative (the
   // shear increment then acted on no contact and is discarded).
@@ -261,6 +261,7 @@ void BartonBandis::update(const Params& p, const Derived& d, State& s, const Joi
   s.tau = tau;
   r.kn = cl.tangent(s.closure);
   law_support::report(s, r);
+  r.consistent = consistent;
   r.slipping = slipping;
   r.dissipated = 0.5 * (tau + tau_old) * dus_p;
 }

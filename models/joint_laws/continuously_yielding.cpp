@@ -213,7 +213,7 @@ void ContinuouslyYielding::update(const Params& p, State& s, const JointKinemati
     ddil = rate * (up - s.plastic_slip);
     return nr.add(sigma_tr, ddil);
   };
-  law_support::solve_increment(rate, sigma_tr, s.sigma_n, step);
+  const bool consistent = law_support::solve_increment(rate, sigma_tr, s.sigma_n, step);
 
   // No tensile strength: the joint opens if the stress after the increment's dilation is tensile
   // (the shear increment then acted on no contact and is discarded).
@@ -233,6 +233,7 @@ void ContinuouslyYielding::update(const Params& p, State& s, const JointKinemati
   r.ks = ks;
   if (nr.hook) r.kn = nr.tangent(sigma_final);
   law_support::report(s, r);
+  r.consistent = consistent;
   r.slipping = up > up_before;
   r.dissipated = 0.5 * (tau + tau_old) * dus_p;
 }

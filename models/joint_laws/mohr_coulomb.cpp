@@ -114,7 +114,7 @@ void MohrCoulomb::update(const Params& p, const Derived& d, State& s, const Join
     ddil = rate * std::abs(dus_p);            // eq. 3-3: psi acts only on plastic slip
     return nr.add(sigma_tr, ddil);
   };
-  law_support::solve_increment(rate, sigma_tr, s.sigma_n, step);
+  const bool consistent = law_support::solve_increment(rate, sigma_tr, s.sigma_n, step);
 
   // Tensile failure (report section 3.1) is judged after the increment's dilation, which pushes
   // the surfaces together under constrained normal displacement: sigma_n becomes zero and the
@@ -132,6 +132,7 @@ void MohrCoulomb::update(const Params& p, const Derived& d, State& s, const Join
   s.tau = tau;
   r.kn = nr.tangent(sigma_final);
   law_support::report(s, r);
+  r.consistent = consistent;
   r.slipping = slipping;
   r.dissipated = 0.5 * (tau + tau_old) * dus_p;
 }

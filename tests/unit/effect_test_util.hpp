@@ -26,7 +26,8 @@ inline std::vector<std::pair<const char*, RawValues>> bit_identity_laws() {
 inline bool same_bits(const JointResponse& a, const JointResponse& b) {
   const double da[] = {a.sigma_n, a.tau, a.kn, a.ks, a.u_s, a.u_n, a.dilation, a.dissipated};
   const double db[] = {b.sigma_n, b.tau, b.kn, b.ks, b.u_s, b.u_n, b.dilation, b.dissipated};
-  return std::memcmp(da, db, sizeof(da)) == 0 && a.slipping == b.slipping && a.open == b.open;
+  return std::memcmp(da, db, sizeof(da)) == 0 && a.slipping == b.slipping && a.open == b.open &&
+         a.consistent == b.consistent;
 }
 
 // Every law with `effects` (all disabled) gives responses and base states identical, bit for

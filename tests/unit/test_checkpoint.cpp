@@ -62,7 +62,10 @@ TEST(Checkpoint, StateStructsHaveTheFieldsTheCheckpointKnows) {
   EXPECT_EQ((field_count<GridPoint>()), 11u);
   EXPECT_EQ((field_count<Zone>()), 7u);
   EXPECT_EQ((field_count<Contact>()), 17u);
-  EXPECT_EQ((field_count<JointResponse>()), 10u);
+  // JointResponse has 11: `consistent` (whether the law's normal stress solve found its fixed
+  // point) is not written. Each update sets it afresh and only the element driver reads it, within
+  // the increment, so a restarted run's first update recomputes what it needs.
+  EXPECT_EQ((field_count<JointResponse>()), 11u);
   EXPECT_EQ((field_count<ContactKey>()), 4u);
 }
 

@@ -140,6 +140,53 @@ TEST(ElementDriver, ReversibleDilationOnAStiffJointFoldsAndStillMeetsTheNormalSt
   }
 }
 
+// Past the fold (kn |dilation rate| tan(phi) > ks, a contracting joint) the law's consistent
+// normal-stress solve can find no fixed point and keep its explicit update at the trial stress,
+// whose final normal stress can still be the target: a false root, with the shear stress of the
+// strength at the trial stress. Before 2026-11-28 the driver accepted it: on the return stroke
+// from -8 mm of a Mohr-Coulomb joint recovering its dilation (kn 40 GPa/m, ks 12 GPa/m, 36 deg,
+// 8 deg, dilation_recovery rho 0.4, h 0.8), 0.4 mm of rows at 2.69-2.78 MPa under 3 MPa, 23 %
+// above the strength 3 tan(36 deg) = 2.180 MPa, and where it happened depended on the step (the
+// broad blind test's seed 9 could not be fitted to its noise). With a Mohr-Coulomb joint under a
+// constant normal stress no row may exceed the strength, at any step, stiffness or cycle.
+TEST(ElementDriver, AContractingJointNeverCarriesMoreThanItsStrength) {
+  const double T = 3e6, S = T * std::tan(36 * kDeg);
+  struct Case {
+    const char* kn;
+    const char* dilation;
+    bool recovery;
+  };
+  for (const Case c : {Case{"40 GPa/m", "monotonic", true}, Case{"150 GPa/m", "monotonic", true},
+                       Case{"40 GPa/m", "reversible", false}, Case{"400 GPa/m", "reversible", false}}) {
+    std::vector<EffectSpec> effects;
+    if (c.recovery) {
+      effects.push_back(EffectSpec{"dilation_recovery",
+                                   {{"residual_fraction", RawValue{0.4, "test"}}, {"hysteresis", RawValue{0.8, "test"}}},
+                                   "test"});
+    }
+    auto m = model("mohr_coulomb",
+                   values({{"kn", c.kn}, {"ks", "12 GPa/m"}, {"friction", "36 deg"}, {"dilation_angle", "8 deg"},
+                           {"dilation", c.dilation}}),
+                   effects);
+    for (const double step : {1e-5, 2.5e-5, 5e-5}) {
+      SCOPED_TRACE(std::string("kn ") + c.kn + ", " + c.dilation + (c.recovery ? " + dilation_recovery" : "") +
+                   ", max_step " + std::to_string(step));
+      ElementOptions o;
+      o.max_step = step;
+      ElementDriver d(*m, o);
+      const auto f = d.run({cnl(T, ShearPath::cycles(8e-3, 2, 4.2e-5, false))});
+      EXPECT_EQ(d.unconverged_steps(), 0);
+      double worst = 0.0;
+      for (const auto& r : f.rows) {
+        ASSERT_NEAR(r.normal_stress_MPa, 3.0, 1e-9);
+        worst = std::max(worst, std::abs(r.shear_stress_MPa));
+      }
+      EXPECT_LE(worst, S * 1e-6 * (1.0 + 1e-9));
+      EXPECT_GE(worst, S * 1e-6 * (1.0 - 1e-9));  // it does slip
+    }
+  }
+}
+
 TEST(ElementDriver, SinusoidAndFilePaths) {
   auto m = model("mohr_coulomb", mc_report());
   {

@@ -50,7 +50,8 @@ TEST(ConsistentSigma, SolvesAStronglyDilatingIncrementWhoseTrialStressIsFarBelow
     if (c < 20.0) guesses.push_back(step.trial);
     for (const double guess : guesses) {
       step.calls.clear();
-      const double s = consistent_sigma(step.trial, guess, step);
+      const auto [s, found] = consistent_sigma(step.trial, guess, step);
+      EXPECT_TRUE(found);
       EXPECT_NEAR(s, 1e6, 1e-6) << "c = " << c << ", guess = " << guess;
       ASSERT_FALSE(step.calls.empty());
       EXPECT_EQ(step.calls.back(), s) << "the last call must be step(answer)";
@@ -65,7 +66,7 @@ TEST(ConsistentSigma, TheFirstProbeIsAtLeastAPartInABillionOfTheScaleAway) {
   SlipStep step{1e5, 3.0, 0.0, 1.0, 0.0, {}};
   step.star = (2e6 * 4.0 - step.trial) / 3.0;  // fixed point 2 MPa
   const double guess = step.root() + 1e-5;
-  const double s = consistent_sigma(step.trial, guess, step);
+  const double s = consistent_sigma(step.trial, guess, step).sigma;
   ASSERT_GE(step.calls.size(), 2u);
   EXPECT_EQ(step.calls[0], guess);
   EXPECT_GE(std::abs(step.calls[1] - step.calls[0]), 1e-9 * (2e6 + 1.0) * (1.0 - 1e-12));
@@ -79,13 +80,15 @@ TEST(ConsistentSigma, DilatingAndContractingMapsAreSolvedToTheTolerance) {
   // back, the limit of theory/joint_laws.md); contracting at c < 1, where the answer is unique.
   for (const double c : {0.2, 0.9, 1.7, 12.0}) {
     SlipStep step{3e5, c, 4e6, 1.0, 0.0, {}};
-    const double s = consistent_sigma(step.trial, 2.9e6, step);
+    const auto [s, found] = consistent_sigma(step.trial, 2.9e6, step);
+    EXPECT_TRUE(found);
     EXPECT_NEAR(s, step.root(), 1e-12 * 4e6 * 4.0) << "dilating, c = " << c;
     EXPECT_EQ(step.calls.back(), s);
   }
   for (const double c : {0.2, 0.5, 0.9}) {
     SlipStep step{3e6, c, 3.5e6, -1.0, 0.0, {}};
-    const double s = consistent_sigma(step.trial, 3.1e6, step);
+    const auto [s, found] = consistent_sigma(step.trial, 3.1e6, step);
+    EXPECT_TRUE(found);
     EXPECT_LT(s, step.star);  // on the slipping branch
     EXPECT_NEAR(s, step.root(), 1e-12 * 3e6 * 4.0) << "contracting, c = " << c;
     EXPECT_EQ(step.calls.back(), s);
@@ -95,7 +98,8 @@ TEST(ConsistentSigma, DilatingAndContractingMapsAreSolvedToTheTolerance) {
 TEST(ConsistentSigma, AGuessThatIsTheAnswerCostsOneCall) {
   SlipStep step{1e6, 2.0, 0.0, 1.0, 0.0, {}};
   step.star = (4e6 * 3.0 - step.trial) / 2.0;  // fixed point 4 MPa
-  const double s = consistent_sigma(step.trial, 4e6, step);
+  const auto [s, found] = consistent_sigma(step.trial, 4e6, step);
+  EXPECT_TRUE(found);
   EXPECT_EQ(s, 4e6);
   EXPECT_EQ(step.calls.size(), 1u);
 }
@@ -109,7 +113,9 @@ TEST(ConsistentSigma, NoFixedPointOrAnInfiniteResponseFallsBackToTheTrialStress)
     calls.push_back(s);
     return s + 1e6;
   };
-  EXPECT_EQ(consistent_sigma(2e6, 2e6, none), 2e6);
+  const auto none_answer = consistent_sigma(2e6, 2e6, none);
+  EXPECT_EQ(none_answer.sigma, 2e6);
+  EXPECT_FALSE(none_answer.found);
   EXPECT_EQ(calls.back(), 2e6);
   calls.clear();
   const double inf = std::numeric_limits<double>::infinity();
@@ -117,8 +123,31 @@ TEST(ConsistentSigma, NoFixedPointOrAnInfiniteResponseFallsBackToTheTrialStress)
     calls.push_back(s);
     return s < 3e6 ? inf : 1e5;  // infinite below 3 MPa, then the trial stress
   };
-  const double s = consistent_sigma(1e5, 2e6, wall);
+  const auto [s, found] = consistent_sigma(1e5, 2e6, wall);
+  EXPECT_FALSE(found);
   EXPECT_EQ(s, 1e5);
   EXPECT_TRUE(std::isfinite(s));
   EXPECT_EQ(calls.back(), 1e5);
+}
+
+TEST(ConsistentSigma, AContractingIncrementPastTheFoldHasNoAnswerAndSaysSo) {
+  // Contracting at c > 1 with the trial stress below s*: s_tr - c (s* - s) = s has its root
+  // (c s* - s_tr)/(c - 1) above s*, off the slipping branch, and above s* the map is the trial
+  // stress, below it: no fixed point anywhere. The solve keeps the trial stress and reports that
+  // it found none (the law's JointResponse::consistent), from any start.
+  for (const double c : {1.5, 2.7, 10.0}) {
+    for (const double guess : {2.5e6, 3e6, 3.4e6, 3.6e6}) {
+      SlipStep step{3e6, c, 3.5e6, -1.0, 0.0, {}};
+      const auto [s, found] = consistent_sigma(step.trial, guess, step);
+      EXPECT_FALSE(found) << "c = " << c << ", guess = " << guess;
+      EXPECT_EQ(s, step.trial);
+      EXPECT_EQ(step.calls.back(), step.trial);
+    }
+  }
+  // Past the fold with the trial stress above s* there are two: the elastic answer (the trial
+  // stress) and the slipping one below s*; either is consistent.
+  SlipStep two{3.8e6, 2.7, 3.5e6, -1.0, 0.0, {}};
+  const auto [s, found] = consistent_sigma(two.trial, 3e6, two);
+  EXPECT_TRUE(found);
+  EXPECT_NEAR(two(s), s, 1e-6);
 }
