@@ -65,7 +65,7 @@ const CommandRegistrar reg{Command{
                         si + 1, c.stages[si].normal_stress / 1e6, tmin, tmax, dmax);
           }
           if (run.unconverged > 0) {
-            std::printf("  warning: %ld increments did not meet the normal-stress tolerance\n", run.unconverged);
+            std::printf("  warning: %ld increments did not meet the stage's normal condition (normal stress or stiffness)\n", run.unconverged);
           }
         }
         return 0;

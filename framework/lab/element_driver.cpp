@@ -186,8 +186,9 @@ void ElementDriver::solve_normal(const ElementStage& stage, double du_s, double 
   // update at the trial stress, JointResponse::consistent) can still meet the target: past the
   // fold, the explicit update's final stress falls as the joint opens, like a true answer's, and
   // its shear stress is the strength at the trial stress (23 % above the plateau on a stiff joint
-  // recovering dilation). Such a point is a false root: it is never accepted, and searches 1 and 2
-  // stop when they reach one, since both would keep refining it; the scan looks further.
+  // recovering dilation). Such a point is a false root: it never counts as meeting the condition
+  // nor is kept, and searches 1 and 2 stop when they reach one, since both would keep refining
+  // it; the scan (when it runs) looks further.
   bool false_root = false;
   const double tol = opt_.tolerance * std::max(std::abs(stage.normal_stress), 1e3);
   // g(du_n) = sigma_n(du_n) - target(du_n) is usually decreasing (opening unloads the joint), but
@@ -383,7 +384,7 @@ void ElementDriver::restore(const Snapshot& s) {
 // for the next 15.) Where no consistent stress exists the law falls back to its explicit update,
 // whose normal stress also falls as the joint opens: a search can meet the target on it, a false
 // root that solve_normal rejects by the law's JointResponse::consistent (it was accepted before
-// 2026-11-28); the scan's last, finer pass then finds the slipping answer beside it.
+// 2026-11-28); where the scan runs, its last, finer pass finds the slipping answer beside it.
 bool ElementDriver::solve_substepped(const ElementStage& stage, double du_s, double dt, int depth, bool may_split) {
   constexpr int kMaxDepth = 6;
   const Snapshot before = snapshot();

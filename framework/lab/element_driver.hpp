@@ -90,7 +90,7 @@ class ElementDriver {
   double load_point() const { return frame() ? u_load_ : r_.u_s; }  // where the path drives [m]
   double block_velocity() const { return v_block_; }            // with a frame [m/s]
   long steps() const { return steps_; }
-  long unconverged_steps() const { return unconverged_; }  // normal solve above tolerance
+  long unconverged_steps() const { return unconverged_; }  // normal condition not met (tolerance, or a false root)
 
   // Number of increments a stage's path takes (used to reserve output rows).
   long count_increments(const ShearPath& path) const;

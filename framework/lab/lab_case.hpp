@@ -89,7 +89,7 @@ bool is_lab_test_file(const std::string& path);
 struct ElementRun {
   MeasurementFile record;
   long increments = 0;
-  long unconverged = 0;  // increments whose normal solve missed the tolerance
+  long unconverged = 0;  // increments whose normal solve did not meet the normal condition
   double wall_ms = 0.0;
 };
 

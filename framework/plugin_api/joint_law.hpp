@@ -58,10 +58,11 @@ struct JointResponse {
   bool slipping = false;
   bool open = false;
   // False where the law's strength could not be made consistent with the normal stress it ends
-  // at (law_support::consistent_sigma found no fixed point: a contracting joint past the fold,
-  // kn |dilation rate| tan(phi) > ks) and the explicit update at the trial stress was kept, as
-  // UDEC does. The DEM engine takes such an update as it is; the element driver, solving for a
-  // normal stress, does not accept it as meeting the stage's normal condition.
+  // at (law_support::consistent_sigma found no fixed point: none exists, as for a contracting
+  // joint past the fold, kn |dilation rate| tan(phi) > ks, or its secant did not converge) and
+  // the explicit update at the trial stress was kept, as UDEC does. The DEM engine takes such an
+  // update as it is; the element driver, solving for a normal stress, does not accept it as
+  // meeting the stage's normal condition. Set afresh by every update: not checkpointed or packed.
   bool consistent = true;
 };
 

@@ -140,7 +140,8 @@ void report_open(State& s, JointResponse& r) {
 // fall back to the trial stress, a jump of MPa). For the same reason a secant lost to rounding
 // (two probes whose h differ by nothing) keeps the last slope.
 // Contract: when this returns, the last call made was step(returned sigma). No allocation.
-// `found` is false where no fixed point was found and the trial stress was kept: the strength
+// `found` is false where no fixed point was found (none exists, or the secant did not reach
+// one in its 40 steps) and the trial stress, not itself one, was kept: the strength
 // was then evaluated at a normal stress other than the one the increment ends at (the law reports
 // it as JointResponse::consistent, so that a driver solving for a normal stress can reject it).
 struct ConsistentStress {
@@ -183,8 +184,10 @@ ConsistentStress consistent_sigma(double sigma_trial, double guess, Step&& step)
     }
   }
   if (accept(s1, h1)) return {s1, true};
-  step(sigma_trial);
-  return {sigma_trial, false};
+  // The trial stress can itself be the fixed point (an elastic increment past the fold) when
+  // the secant failed elsewhere: then the update is consistent.
+  const double h_trial = step(sigma_trial) - sigma_trial;
+  return {sigma_trial, accept(sigma_trial, h_trial)};
 }
 
 // One increment's normal stress for the three laws: the trial stress when the increment does not

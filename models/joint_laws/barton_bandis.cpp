@@ -252,7 +252,10 @@ void BartonBandis::update(const Params& p, const Derived& d, State& s, const Joi
 
   // No tensile strength: open if the closure after the increment's dilation is negative (the
   // shear increment then acted on no contact and is discarded).
-  if (v_tr + ddil < 0.0) return finish_open(std::min(v_tr, v_tr + ddil));
+  if (v_tr + ddil < 0.0) {
+    r.consistent = consistent;  // opened by an update that may be the explicit fallback
+    return finish_open(std::min(v_tr, v_tr + ddil));
+  }
   s.delta += travel;
   s.plastic_slip += std::abs(dus_p);
   s.dilation += ddil;

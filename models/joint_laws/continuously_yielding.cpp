@@ -220,6 +220,7 @@ void ContinuouslyYielding::update(const Params& p, State& s, const JointKinemati
   const double sigma_final = nr.add(sigma_tr, ddil);
   if (sigma_final < 0.0) {
     s.gap = -nr.closure(std::min(sigma_tr, sigma_final));
+    r.consistent = consistent;  // opened by an update that may be the explicit fallback
     return finish_open();
   }
   const double dus_p = k.du_s - (tau - tau_old) / ks;

@@ -123,6 +123,7 @@ void MohrCoulomb::update(const Params& p, const Derived& d, State& s, const Join
   if (sigma_final < -s.tension) {
     s.gap = -nr.closure(std::min(sigma_tr, sigma_final));
     if (p.residual_after_failure) s.cohesion = s.tension = 0.0;
+    r.consistent = consistent;  // opened by an update that may be the explicit fallback
     return law_support::report_open(s, r);
   }
   if (slipping && p.residual_after_failure) s.cohesion = s.tension = 0.0;
