@@ -248,14 +248,13 @@ void BartonBandis::update(const Params& p, const Derived& d, State& s, const Joi
     ddil = rate * travel;
     return cl.sigma(v_tr + ddil);
   };
-  const bool consistent = law_support::solve_increment(rate, sigma_tr, s.sigma_n, step);
+  // Whether the strength is consistent with the final normal stress (JointResponse::consistent);
+  // report() and the open paths below leave it as set here.
+  r.consistent = law_support::solve_increment(rate, sigma_tr, s.sigma_n, step);
 
   // No tensile strength: open if the closure after the increment's dilation is negative (the
   // shear increment then acted on no contact and is discarded).
-  if (v_tr + ddil < 0.0) {
-    r.consistent = consistent;  // opened by an update that may be the explicit fallback
-    return finish_open(std::min(v_tr, v_tr + ddil));
-  }
+  if (v_tr + ddil < 0.0) return finish_open(std::min(v_tr, v_tr + ddil));
   s.delta += travel;
   s.plastic_slip += std::abs(dus_p);
   s.dilation += ddil;
@@ -264,7 +263,6 @@ void BartonBandis::update(const Params& p, const Derived& d, State& s, const Joi
   s.tau = tau;
   r.kn = cl.tangent(s.closure);
   law_support::report(s, r);
-  r.consistent = consistent;
   r.slipping = slipping;
   r.dissipated = 0.5 * (tau + tau_old) * dus_p;
 }

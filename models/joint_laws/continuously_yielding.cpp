@@ -213,14 +213,15 @@ void ContinuouslyYielding::update(const Params& p, State& s, const JointKinemati
     ddil = rate * (up - s.plastic_slip);
     return nr.add(sigma_tr, ddil);
   };
-  const bool consistent = law_support::solve_increment(rate, sigma_tr, s.sigma_n, step);
+  // Whether the strength is consistent with the final normal stress (JointResponse::consistent);
+  // report() and the open paths below leave it as set here.
+  r.consistent = law_support::solve_increment(rate, sigma_tr, s.sigma_n, step);
 
   // No tensile strength: the joint opens if the stress after the increment's dilation is tensile
   // (the shear increment then acted on no contact and is discarded).
   const double sigma_final = nr.add(sigma_tr, ddil);
   if (sigma_final < 0.0) {
     s.gap = -nr.closure(std::min(sigma_tr, sigma_final));
-    r.consistent = consistent;  // opened by an update that may be the explicit fallback
     return finish_open();
   }
   const double dus_p = k.du_s - (tau - tau_old) / ks;
@@ -234,7 +235,6 @@ void ContinuouslyYielding::update(const Params& p, State& s, const JointKinemati
   r.ks = ks;
   if (nr.hook) r.kn = nr.tangent(sigma_final);
   law_support::report(s, r);
-  r.consistent = consistent;
   r.slipping = up > up_before;
   r.dissipated = 0.5 * (tau + tau_old) * dus_p;
 }

@@ -114,7 +114,9 @@ void MohrCoulomb::update(const Params& p, const Derived& d, State& s, const Join
     ddil = rate * std::abs(dus_p);            // eq. 3-3: psi acts only on plastic slip
     return nr.add(sigma_tr, ddil);
   };
-  const bool consistent = law_support::solve_increment(rate, sigma_tr, s.sigma_n, step);
+  // Whether the strength is consistent with the final normal stress (JointResponse::consistent);
+  // report() and the open paths below leave it as set here.
+  r.consistent = law_support::solve_increment(rate, sigma_tr, s.sigma_n, step);
 
   // Tensile failure (report section 3.1) is judged after the increment's dilation, which pushes
   // the surfaces together under constrained normal displacement: sigma_n becomes zero and the
@@ -123,7 +125,6 @@ void MohrCoulomb::update(const Params& p, const Derived& d, State& s, const Join
   if (sigma_final < -s.tension) {
     s.gap = -nr.closure(std::min(sigma_tr, sigma_final));
     if (p.residual_after_failure) s.cohesion = s.tension = 0.0;
-    r.consistent = consistent;  // opened by an update that may be the explicit fallback
     return law_support::report_open(s, r);
   }
   if (slipping && p.residual_after_failure) s.cohesion = s.tension = 0.0;
@@ -133,7 +134,6 @@ void MohrCoulomb::update(const Params& p, const Derived& d, State& s, const Join
   s.tau = tau;
   r.kn = nr.tangent(sigma_final);
   law_support::report(s, r);
-  r.consistent = consistent;
   r.slipping = slipping;
   r.dissipated = 0.5 * (tau + tau_old) * dus_p;
 }
