@@ -27,6 +27,7 @@
 // effect says so itself from the record's features) are named with the reason and kept out of
 // the ladder. docs/user-guide-calibrate-diagnose.md.
 #include <array>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -180,9 +181,10 @@ struct EffectTrial {
 };
 
 struct LadderStep {
-  std::vector<std::string> effects;
+  std::vector<std::string> effects;  // in composition order (the order the joint applies them)
   CalibrationResult fit;
   EffectiveSize size;  // of this step's residuals (reported; a rung is judged with the n_eff it leaves)
+  std::string added;   // the effect this rung added (empty on the baseline); first or last in `effects`
 };
 
 // Why the ladder took, or did not take, an effect at one step: a rung must lower the IC
@@ -195,6 +197,11 @@ struct LadderDecision {
   double delta_ic = 0.0;       // against the step before
   double delta_bic = 0.0;      // the same with n_eff = n (for reference)
   double nrmse_before = 0.0, nrmse_after = 0.0;  // combined
+  // Where in the chain it was fitted: first (before the effects already there) or last; the
+  // other order's combined NRMSE where it was fitted too (NaN: the order does not change the
+  // model at the fitted values, or this is the first rung).
+  bool composed_first = false;
+  double nrmse_other_order = std::numeric_limits<double>::quiet_NaN();
   std::string reason;
 };
 

@@ -288,7 +288,7 @@ TEST(Diagnosis, BlindHiddenEffectIsRankedFirstAndCutsTheError) {
     for (std::size_t k = 1; k < d.ladder.size(); ++k) {
       EXPECT_LT(d.ladder[k].fit.nrmse[2], d.ladder[k - 1].fit.nrmse[2]) << "seed " << seed << ", rung " << k << "\n" << format_report(d);
       bool recorded = false;
-      for (const auto& c : d.decisions) recorded = recorded || (c.step == k && c.added && c.effect == d.ladder[k].effects.back());
+      for (const auto& c : d.decisions) recorded = recorded || (c.step == k && c.added && c.effect == d.ladder[k].added);
       EXPECT_TRUE(recorded) << "seed " << seed << ", rung " << k;
     }
     const bool first = d.ladder.size() >= 2 && d.ladder[1].effects.front() == h.effect;
