@@ -826,7 +826,7 @@ class DiagnosisRun {
     const LadderStep& cur = d_.ladder.back();
     std::vector<CalibrationResult> fits(next.size());
     std::vector<char> ok(next.size(), 0);  // not vector<bool>: its bits share words across threads
-    std::vector<char> first(next.size(), 0);
+    std::vector<std::vector<std::string>> chains(next.size());  // each candidate's chain, in composition order
     std::vector<double> other_order(next.size(), std::numeric_limits<double>::quiet_NaN());  // combined NRMSE
     const int o2 = std::max(1, std::min<int>(options_.threads, static_cast<int>(next.size())));
     for_each_parallel(next.size(), o2, [&](std::size_t i) {
@@ -850,6 +850,7 @@ class DiagnosisRun {
       last.push_back(added);
       front.insert(front.end(), cur.effects.begin(), cur.effects.end());
       std::optional<CalibrationResult> best = fit_chain(last);
+      chains[i] = last;
       // First in the chain: fitted only where the order changes the joint at the values fitted
       // last (one evaluation; two effects that commute give the same model and the same NRMSE).
       bool try_first = !cur.effects.empty();
@@ -862,14 +863,14 @@ class DiagnosisRun {
         if (at_front && (!best || at_front->rss < best->rss)) {
           if (best) other_order[i] = best->nrmse[2];
           best = std::move(at_front);
-          first[i] = 1;
+          chains[i] = front;
         } else if (at_front) {
           other_order[i] = at_front->nrmse[2];
         }
       }
       if (best) {
         fits[i] = std::move(*best);
-        count_parameters(fits[i], law_free_.size(), first[i] ? front : last);
+        count_parameters(fits[i], law_free_.size(), chains[i]);
         ok[i] = 1;
       }
     });
@@ -887,22 +888,20 @@ class DiagnosisRun {
     for (const std::size_t i : order) {
       const bool added = decide(step, next[i]->effect, fits[i], sizes[i], cur);
       LadderDecision& dec = d_.decisions.back();
-      dec.composed_first = first[i] != 0;
+      const bool first = chains[i].size() > 1 && chains[i].front() == next[i]->effect;
+      dec.composed_first = first;
       dec.nrmse_other_order = other_order[i];
       if (std::isfinite(other_order[i])) {
         char buf[200];
-        std::snprintf(buf, sizeof buf, "; composed %s the chain (combined NRMSE %.4f there, %.4f %s)", first[i] ? "first in" : "last in",
-                      fits[i].nrmse[2], other_order[i], first[i] ? "last" : "first");
+        std::snprintf(buf, sizeof buf, "; composed %s the chain (combined NRMSE %.4f there, %.4f %s)", first ? "first in" : "last in",
+                      fits[i].nrmse[2], other_order[i], first ? "last" : "first");
         dec.reason += buf;
       }
       if (!added) {
         if (!(dec.delta_ic < 0.0)) return false;  // the rest lower the IC even less
         continue;
       }
-      LadderStep rung{first[i] ? std::vector<std::string>{next[i]->effect} : cur.effects, std::move(fits[i]), sizes[i],
-                      next[i]->effect};
-      if (first[i]) rung.effects.insert(rung.effects.end(), cur.effects.begin(), cur.effects.end());
-      else rung.effects.push_back(next[i]->effect);
+      LadderStep rung{std::move(chains[i]), std::move(fits[i]), sizes[i], next[i]->effect};
       used.insert(next[i]->effect);
       refit_chain(rung, dec);
       d_.ladder.push_back(std::move(rung));
