@@ -269,7 +269,21 @@ std::vector<double> evaluate_optimum(const Evaluator& ev, const std::vector<doub
   Comparison c_coarse;
   std::string why_coarse, why_fine;
   const bool coarse_ok = ev.residuals(x.data(), coarse, r_coarse, &c_coarse, &res.model, &why_coarse);
-  const bool fine_ok = ev.residuals(x.data(), fine, r_fine, &res.comparison, &res.model, &why_fine);
+  Evaluator::Misses misses;
+  const bool fine_ok = ev.residuals(x.data(), fine, r_fine, &res.comparison, &res.model, &why_fine, &misses);
+  if (fine_ok) {
+    res.increments = misses.increments;
+    res.missed_increments = misses.missed;
+    if (misses.missed > 0) {
+      char buf[400];
+      std::snprintf(buf, sizeof buf,
+                    "the fitted model missed the stage's normal condition on %ld of its %ld increments at the fine step "
+                    "(it lifted off, or found no consistent normal stress): there its curve is not the joint's answer to "
+                    "the record's path",
+                    misses.missed, misses.increments);
+      res.warnings.push_back(buf);
+    }
+  }
   if (!coarse_ok && !fine_ok) {
     throw std::runtime_error("calibrate: the fitted model (" + ev.describe(x.data()) +
                              ") could not be evaluated at the fitting step (" + why_coarse + ") nor at the fine step (" +

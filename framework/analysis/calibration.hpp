@@ -89,6 +89,10 @@ struct CalibrationResult {
   bool converged = false;
   int iterations = 0;
   long evaluations = 0;             // element-driver runs
+  // The fitted model's run at the fine step: its increments (sub-steps included) and those that
+  // missed the stage's normal condition (the model joint lifted off, or had no consistent normal
+  // stress there): where it missed, its curve is not the joint's answer to the record's path.
+  long increments = 0, missed_increments = 0;
   std::array<double, 3> nrmse{};    // shear stress, normal displacement, combined (fine step)
   std::array<double, 3> nrmse_fit{};  // the same at the fitting step
   double rss = 0.0;                 // sum of squared range-normalised residuals (fine step)

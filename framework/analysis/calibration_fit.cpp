@@ -111,13 +111,15 @@ std::unique_ptr<JointModel> Evaluator::build(const std::vector<double>& v) const
   return make_joint_model(opt_.law, law, effects, "calibration");
 }
 
-MeasurementFile Evaluator::run(const JointModel& model, double step) const {
+MeasurementFile Evaluator::run(const JointModel& model, double step, Misses* misses) const {
   ElementOptions eo = opt_.element;
   eo.max_step = step;
   eo.output_every = 1;
   ElementDriver driver(model, eo);
   ++evaluations_;
-  return driver.run(stages_);
+  MeasurementFile rec = driver.run(stages_);
+  if (misses) *misses = {driver.unconverged_steps(), driver.steps()};
+  return rec;
 }
 
 std::string Evaluator::describe(const double* x) const {
@@ -130,10 +132,10 @@ std::string Evaluator::describe(const double* x) const {
 }
 
 bool Evaluator::residuals(const double* x, double step, std::vector<double>& r, Comparison* out,
-                          MeasurementFile* record, std::string* why) const {
+                          MeasurementFile* record, std::string* why, Misses* misses) const {
   try {
     const auto model = build(values(x));
-    MeasurementFile rec = run(*model, step);
+    MeasurementFile rec = run(*model, step, misses);
     Comparison c = compare(data_, seg_, rec, opt_.compare);
     r.clear();
     r.reserve(n());

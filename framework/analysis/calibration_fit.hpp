@@ -88,11 +88,16 @@ class Evaluator {
   std::string describe(const double* x) const;
 
   std::unique_ptr<JointModel> build(const std::vector<double>& v) const;
-  MeasurementFile run(const JointModel& model, double step) const;
+  // The element driver's increments in a run and those that missed the stage's normal
+  // condition (ElementDriver::unconverged_steps).
+  struct Misses {
+    long missed = 0, increments = 0;
+  };
+  MeasurementFile run(const JointModel& model, double step, Misses* misses = nullptr) const;
   // Range-normalised residuals (model - measured) of every compared row; false if the model
   // cannot be built or run, or its record cannot be compared.
   bool residuals(const double* x, double step, std::vector<double>& r, Comparison* out = nullptr,
-                 MeasurementFile* record = nullptr, std::string* why = nullptr) const;
+                 MeasurementFile* record = nullptr, std::string* why = nullptr, Misses* misses = nullptr) const;
   // Forward-difference Jacobian in the [0, 1] space, columns in parallel.
   bool jacobian(const double* x, const std::vector<double>& r0, double step, Eigen::MatrixXd& J) const;
 

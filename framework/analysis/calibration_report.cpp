@@ -18,6 +18,8 @@ nlohmann::json to_json(const CalibrationResult& r) {
   j["converged"] = r.converged;
   j["iterations"] = r.iterations;
   j["evaluations"] = r.evaluations;
+  j["increments"] = r.increments;
+  j["missed_increments"] = r.missed_increments;
   auto nr = [](const std::array<double, 3>& a) {
     return nlohmann::json{{"shear_stress", a[0]}, {"normal_disp", a[1]}, {"combined", a[2]}};
   };

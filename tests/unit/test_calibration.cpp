@@ -4,12 +4,14 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 #include <numbers>
 #include <random>
 
 #include "tests/unit/noisy_record.hpp"
 #include "framework/analysis/calibration.hpp"
 #include "framework/core/error.hpp"
+#include "framework/io/measurement_csv.hpp"
 #include "framework/plugin_api/joint_law.hpp"
 
 using namespace rockdem;
@@ -125,6 +127,48 @@ TEST(Calibration, FixedParametersStayFixedAndBoundsAreRespected) {
   bool warned = false;
   for (const auto& w : rb.warnings) warned = warned || w.find("dilation_angle is at its lower bound") != std::string::npos;
   EXPECT_TRUE(warned);
+}
+
+// A model joint that cannot follow the record's normal condition on some increments (here
+// Mohr-Coulomb with dilation_recovery and rate_and_state on the first reversal of test 14's twin:
+// the regularised creep just after a reversal leaves no consistent normal stress, and the joint
+// lifts off) is fitted, but the result counts those increments and warns; a model that follows
+// the same record counts none.
+TEST(Calibration, IncrementsThatMissTheNormalConditionAreCountedAndWarned) {
+  MeasurementFile f = read_measurement_csv(std::string(ROCKDEM_SOURCE_DIR) + "/cases/direct_shear/twins/test14.csv");
+  f.rows.resize(300);  // the first stroke and the first reversals, to 0.3 s
+  const Segmentation seg = segment(f);
+  CalibrationOptions o;
+  o.law = "mohr_coulomb";
+  o.element.max_step = 1e-5;
+  o.element.length = 0.2032;
+  for (const auto& [name, value] : std::map<std::string, std::string>{
+           {"kn", "200 GPa/m"}, {"ks", "10 GPa/m"}, {"friction", "40 deg"}, {"dilation_angle", "10 deg"}})
+    o.fix_text[name] = value;
+  const CalibrationResult plain = calibrate(f, seg, o);
+  EXPECT_GT(plain.increments, 0);
+  EXPECT_EQ(plain.missed_increments, 0);
+  for (const auto& w : plain.warnings) EXPECT_EQ(w.find("missed"), std::string::npos) << w;
+
+  o.effects = {"dilation_recovery", "rate_and_state"};
+  for (const auto& [name, value] : std::map<std::string, std::string>{{"dilation_recovery.residual_fraction", "0"},
+                                                                       {"dilation_recovery.hysteresis", "1"},
+                                                                       {"rate_and_state.a", "0.01"},
+                                                                       {"rate_and_state.b", "0.015"},
+                                                                       {"rate_and_state.critical_slip", "20 um"}})
+    o.fix_text[name] = value;
+  const CalibrationResult r = calibrate(f, seg, o);
+  EXPECT_GT(r.increments, 0);
+  EXPECT_GT(r.missed_increments, 0);
+  EXPECT_LT(r.missed_increments, r.increments);
+  bool warned = false;
+  for (const auto& w : r.warnings)
+    warned = warned || w.find("missed the stage's normal condition on " + std::to_string(r.missed_increments) + " of its " +
+                              std::to_string(r.increments) + " increments") != std::string::npos;
+  EXPECT_TRUE(warned);
+  const nlohmann::json j = to_json(r);
+  EXPECT_EQ(j.at("missed_increments").get<long>(), r.missed_increments);
+  EXPECT_EQ(j.at("increments").get<long>(), r.increments);
 }
 
 TEST(Calibration, UnknownNamesAreInputErrorsListingTheValidOnes) {
