@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <mutex>
 #include <optional>
 #include <set>
 #include <sstream>
@@ -426,7 +427,7 @@ std::vector<std::string> dilation_modes(const std::string& law) {
 }  // namespace
 
 std::vector<BaseLawFit> fit_base_laws(const MeasurementFile& data, const Segmentation& seg, const CalibrationOptions& base,
-                                      int threads) {
+                                      int threads, const std::function<void(const BaseLawFit&)>& done) {
   std::vector<std::string> laws{"mohr_coulomb", "barton_bandis", "continuously_yielding"};
   if (std::find(laws.begin(), laws.end(), base.law) == laws.end()) laws.push_back(base.law);
   std::vector<BaseLawFit> fits;
@@ -447,6 +448,7 @@ std::vector<BaseLawFit> fit_base_laws(const MeasurementFile& data, const Segment
       f.failed = true;
       f.reason = e.what();
     }
+    if (done) done(f);
   });
   std::stable_sort(fits.begin(), fits.end(), [](const BaseLawFit& a, const BaseLawFit& b) {
     if (a.failed != b.failed) return !a.failed;
@@ -514,7 +516,7 @@ class DiagnosisRun {
       : data_(data), seg_(seg), options_(std::move(options)) {}
 
   Diagnosis run() {
-    const auto t0 = std::chrono::steady_clock::now();
+    const auto t0 = t0_;
     check_record_length();
     check_base_laws();
     d_.law = options_.base.law;
@@ -556,7 +558,10 @@ class DiagnosisRun {
   // best of them becomes the base law.
   void check_base_laws() {
     if (!options_.check_base_laws && !options_.use_best_base_law) return;
-    d_.base_laws = fit_base_laws(data_, seg_, options_.base, options_.threads);
+    d_.base_laws = fit_base_laws(data_, seg_, options_.base, options_.threads, [&](const BaseLawFit& f) {
+      const std::string name = "base law " + f.law + (f.dilation.empty() ? "" : " (dilation = " + f.dilation + ")");
+      say(name + (f.failed ? ": failed (" + f.reason + ")" : ": " + fit_line(f.fit)));
+    });
     if (!options_.use_best_base_law) return;
     if (d_.base_laws.empty() || d_.base_laws.front().failed)
       throw InputError("diagnose --law best: no standard base law could be fitted to the record" +
@@ -614,6 +619,7 @@ class DiagnosisRun {
     base.threads = options_.threads;
     base.starts = 2;
     d_.baseline = calibrate(data_, seg_, base);
+    say("baseline " + d_.law + ": " + fit_line(d_.baseline));
     for (const auto& w : d_.baseline.warnings) d_.warnings.push_back("baseline: " + w);
     law_free_ = free_names(d_.baseline, d_.law);
   }
@@ -652,6 +658,7 @@ class DiagnosisRun {
       if (short_record_ && t.reason.empty()) t.reason = "the record is too short";
       if (!t.judged && !options_.fit_unjudged) return;
       fit_trial(t, inner);
+      say("effect " + t.effect + " alone: " + (t.failed ? t.reason : fit_line(t.fit)));
     });
   }
 
@@ -829,6 +836,8 @@ class DiagnosisRun {
     std::vector<std::vector<std::string>> chains(next.size());  // each candidate's chain, in composition order
     std::vector<double> other_order(next.size(), std::numeric_limits<double>::quiet_NaN());  // combined NRMSE
     const int o2 = std::max(1, std::min<int>(options_.threads, static_cast<int>(next.size())));
+    const std::string rung_name = "rung " + std::to_string(d_.ladder.size()) + ": ";
+    say(rung_name + std::to_string(next.size()) + " candidate(s) added to " + join(cur.effects));
     for_each_parallel(next.size(), o2, [&](std::size_t i) {
       const std::string& added = next[i]->effect;
       const int threads = std::max(1, options_.threads / o2);
@@ -850,6 +859,7 @@ class DiagnosisRun {
       last.push_back(added);
       front.insert(front.end(), cur.effects.begin(), cur.effects.end());
       std::optional<CalibrationResult> best = fit_chain(last);
+      say(rung_name + join(last) + ": " + (best ? fit_line(*best) : std::string("no fit")));
       chains[i] = last;
       // First in the chain: fitted only where the order changes the joint at the values fitted
       // last (one evaluation; two effects that commute give the same model and the same NRMSE).
@@ -860,6 +870,7 @@ class DiagnosisRun {
       }
       if (try_first) {
         std::optional<CalibrationResult> at_front = fit_chain(front);
+        say(rung_name + join(front) + ": " + (at_front ? fit_line(*at_front) : std::string("no fit")));
         if (at_front && (!best || at_front->rss < best->rss)) {
           if (best) other_order[i] = best->nrmse[2];
           best = std::move(at_front);
@@ -925,6 +936,8 @@ class DiagnosisRun {
         for (const auto& n : effect_params(e)) o.only_free.push_back(n);
     try {
       CalibrationResult r = calibrate(data_, seg_, o);
+      say("rung " + std::to_string(d_.ladder.size()) + ": " + join(rung.effects) + " refitted with all its parameters free: " +
+          fit_line(r));
       count_parameters(r, law_free_.size(), rung.effects);
       if (!(r.rss < rung.fit.rss && r.nrmse[2] < rung.fit.nrmse[2])) return;
       char buf[160];
@@ -956,6 +969,28 @@ class DiagnosisRun {
     }
   }
 
+  // One progress line (DiagnosisOptions::progress), prefixed with the time since the start.
+  void say(const std::string& what) const {
+    if (!options_.progress) return;
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "[%7.1f s] ", s);
+    const std::lock_guard<std::mutex> lock(say_mutex_);
+    options_.progress(buf + what);
+  }
+  static std::string fit_line(const CalibrationResult& r) {
+    char buf[120];
+    std::snprintf(buf, sizeof buf, "combined NRMSE %.4f, %.1f s", r.nrmse[2], r.wall_ms / 1e3);
+    return buf;
+  }
+  static std::string join(const std::vector<std::string>& chain) {
+    std::string s;
+    for (const auto& e : chain) s += (s.empty() ? "" : " + ") + e;
+    return s.empty() ? "the base law" : s;
+  }
+
+  const std::chrono::steady_clock::time_point t0_ = std::chrono::steady_clock::now();
+  mutable std::mutex say_mutex_;
   const MeasurementFile& data_;
   const Segmentation& seg_;
   DiagnosisOptions options_;  // a copy: --law best replaces the base law after the check

@@ -27,6 +27,7 @@
 // effect says so itself from the record's features) are named with the reason and kept out of
 // the ladder. docs/user-guide-calibrate-diagnose.md.
 #include <array>
+#include <functional>
 #include <limits>
 #include <string>
 #include <vector>
@@ -52,6 +53,10 @@ struct DiagnosisOptions {
   // Run the effects on the base law and dilation mode that fit best (lowest BIC) instead of
   // base.law (`rockdem diagnose --law best`); implies check_base_laws.
   bool use_best_base_law = false;
+  // Told one line for each fit as it finishes (base laws, the baseline, each effect alone, each
+  // rung's candidates), with the time since the diagnosis began; a 40-cycle record takes minutes
+  // and the user must see that it moves, and where. Calls are serialised (fits run on threads).
+  std::function<void(const std::string&)> progress;
 };
 
 // One base law with one dilation mode fitted to the record without effects.
@@ -66,8 +71,9 @@ struct BaseLawFit {
 // element settings, and with those of base's starting values and fixes whose names the law
 // shares (kn, ks: measured on the specimen whatever the law); best (lowest BIC) first, failed
 // fits last. `threads` fits run at a time.
+// `done`, if given, is called after each fit (from the thread that ran it).
 std::vector<BaseLawFit> fit_base_laws(const MeasurementFile& data, const Segmentation& seg, const CalibrationOptions& base,
-                                      int threads);
+                                      int threads, const std::function<void(const BaseLawFit&)>& done = {});
 
 // Per-row covariates of a record (one vector per covariate, one value per row).
 struct Covariates {

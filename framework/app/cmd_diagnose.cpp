@@ -126,6 +126,8 @@ const CommandRegistrar reg{Command{
         };
         const auto work = [&]() -> int {
           DiagnosisOptions o = *opt;
+          // Each fit as it finishes, on stderr (stdout holds the report): a long record takes minutes.
+          if (!*quiet) o.progress = [](const std::string& line) { std::fprintf(stderr, "diagnose %s\n", line.c_str()); };
           const MeasurementFile d = read_measurement_csv(*data);
           std::vector<std::string> notes;
           CalibrationInputs list;
