@@ -255,7 +255,7 @@ TEST(BlindBroad, DrawnLawProtocolAndEffectsAreFound) {
     o1.first_ranked = !effects.empty() && contains(effects, first);
     bool all_added = added.size() == effects.size();
     for (const auto& e : effects) all_added = all_added && contains(added, e);
-    o1.hit = judged && (effects.empty() ? added.empty() : o1.first_ranked && contains(effects, added.front()) && all_added);
+    o1.hit = judged && (effects.empty() ? added.empty() : o1.first_ranked && !added.empty() && contains(effects, added.front()) && all_added);
     // The cut: the first rung divides the combined NRMSE by 3 or more, unless the noise
     // leaves less to cut (first rung within twice the ceiling).
     o1.cut = !effects.empty() && (after <= before / 3.0 || after <= 2.0 * ceiling);
