@@ -3,6 +3,7 @@
 // and a blind test: an effect drawn at random from the catalogue (seeded per run, logged) with
 // parameters unlike its defaults, data from the composed law plus noise; diagnose, not told, must
 // rank it first and cut the combined NRMSE substantially.
+#include <algorithm>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -103,8 +104,17 @@ TEST(Diagnosis, LadderStopsWhenNothingHelpsAndJsonHasTheKeys) {
   // The base law itself made the data: no effect can pay for its parameters.
   const MeasurementFile f = record(kMc, {}, false, 3);
   const Segmentation seg = segment(f);
-  const Diagnosis d = diagnose(f, seg, options({"reverse_shear_degradation", "dilation_recovery"}));
+  DiagnosisOptions o = options({"reverse_shear_degradation", "dilation_recovery"});
+  std::vector<std::string> progress;  // one line per fit as it finishes (stderr in the CLI)
+  o.progress = [&](const std::string& line) { progress.push_back(line); };
+  const Diagnosis d = diagnose(f, seg, o);
   ASSERT_EQ(d.ladder.size(), 1u) << format_report(d);
+  for (const char* fit : {"] baseline mohr_coulomb: combined NRMSE ", "] effect reverse_shear_degradation alone: combined NRMSE ",
+                          "] effect dilation_recovery alone: combined NRMSE "}) {
+    const auto n = std::count_if(progress.begin(), progress.end(),
+                                 [&](const std::string& l) { return l.front() == '[' && l.find(fit) != std::string::npos; });
+    EXPECT_EQ(n, 1) << fit;
+  }
   EXPECT_TRUE(d.ladder[0].effects.empty());
   for (const auto& t : d.ranking) {
     EXPECT_GT(t.delta_bic, 0.0) << t.effect;
