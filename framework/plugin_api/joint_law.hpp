@@ -76,6 +76,18 @@ struct ShearContext {
   double basic_friction = 0.0;   // basic/residual friction angle [rad]
   double roughness_angle = 0.0;  // current roughness (dilation) angle the base law uses [rad]
   double strength = 0.0;         // bounding shear strength, magnitude [Pa]; effects may change it
+  // An effect whose strength is not a fixed multiple of the one it is handed (rate_and_state:
+  // the slip rate, and with it the friction, follows the normal stress within the increment)
+  // gives it as a function: strength_at(strength_args, handed, sigma) is what the effect returns
+  // when handed the strength `handed` at normal stress `sigma`, all else as read at the trial
+  // stress (the trial shear stress, the effect's state). The law then evaluates it at each normal
+  // stress of its consistency solve instead of scaling the change it made at the trial stress
+  // (law_support::StrengthChange); the effects before it in the chain are carried as the factor
+  // strength_handed / the law's own strength, those after it as strength / strength_returned,
+  // both at the trial stress. Null: every effect's change is a factor (or an offset).
+  double (*strength_at)(const double* args, double handed, double sigma) = nullptr;
+  std::array<double, 8> strength_args{};
+  double strength_handed = 0.0, strength_returned = 0.0;
   double dilation_rate = 0.0;    // d(dilation)/d|du_s^p| with its sign; effects may change it
   // The law derives its dilation from the shear stress it carries (Continuously-Yielding, eq.
   // 3-16: tan(atan(tau/sigma_n) - phi)), so an effect that raises the strength raises the

@@ -64,11 +64,31 @@ inline double dilation_sign(int option, double u_s, double du_s, double u_cs, bo
 // applied to the strength at another normal stress (the dilation-consistent one): a factor,
 // since strengths scale with sigma_n, or an offset where the base strength is zero. Without
 // effects the factor is exactly 1 and the offset exactly 0, so results are bit-identical.
+// An effect that gives its strength as a function of the normal stress (ShearContext::
+// strength_at) is evaluated at the normal stress asked for, between the factors of the effects
+// before and after it.
 struct StrengthChange {
   double factor = 1.0, offset = 0.0;
+  double (*strength_at)(const double*, double, double) = nullptr;
+  const double* args = nullptr;
+  double before = 1.0, before_offset = 0.0, after = 1.0;
   StrengthChange(double base, double changed)
       : factor(base > 0.0 ? changed / base : 1.0), offset(base > 0.0 ? 0.0 : changed - base) {}
-  double operator()(double strength) const { return std::max(0.0, strength * factor + offset); }
+  // `ctx` after the effects' modify (it must outlive this object): its strength function, if any.
+  StrengthChange(double base, const ShearContext& ctx) : StrengthChange(base, ctx.strength) {
+    if (!ctx.strength_at) return;
+    strength_at = ctx.strength_at;
+    args = ctx.strength_args.data();
+    before = base > 0.0 ? ctx.strength_handed / base : 1.0;
+    before_offset = base > 0.0 ? 0.0 : ctx.strength_handed - base;
+    after = ctx.strength_returned > 0.0 ? ctx.strength / ctx.strength_returned : 1.0;
+  }
+  // The effects' strength for the law's own `strength` at normal stress `sigma`.
+  double operator()(double strength, double sigma) const {
+    if (!strength_at) return std::max(0.0, strength * factor + offset);
+    const double handed = std::max(0.0, strength * before + before_offset);
+    return std::max(0.0, after * strength_at(args, handed, sigma));
+  }
 };
 
 // Hyperbolic normal closure of Bandis, Lumsden & Barton (1983): sigma_n = Kni v / (1 - v/Vm) for

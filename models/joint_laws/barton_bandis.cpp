@@ -225,7 +225,7 @@ void BartonBandis::update(const Params& p, const Derived& d, State& s, const Joi
   };
   ctx.law = &view;
   chain.modify(ctx);
-  const law_support::StrengthChange effects(strength_tr, ctx.strength);
+  const law_support::StrengthChange effects(strength_tr, ctx);
   const double rate = ctx.dilation_rate;
 
   const double tau_old = s.tau;
@@ -234,11 +234,11 @@ void BartonBandis::update(const Params& p, const Derived& d, State& s, const Joi
   bool slipping = false;
   auto step = [&](double sigma) {
     const double i = roughness_i(p, d, sigma);  // one log10 per evaluation
-    const double s_old = effects(strength_from_i(p, d, s.delta, sigma, i));
+    const double s_old = effects(strength_from_i(p, d, s.delta, sigma, i), sigma);
     slipping = std::abs(tau_tr) > s_old;
     if (slipping) {
       travel = (std::abs(tau_tr) - s_old) / p.ks;
-      const double s_new = effects(strength_from_i(p, d, s.delta + travel, sigma, i));
+      const double s_new = effects(strength_from_i(p, d, s.delta + travel, sigma, i), sigma);
       tau = std::copysign(std::min(std::abs(tau_tr), s_new), tau_tr);
     } else {
       travel = 0.0;

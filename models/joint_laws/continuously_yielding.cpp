@@ -168,7 +168,7 @@ void ContinuouslyYielding::update(const Params& p, State& s, const JointKinemati
   };
   ctx.law = &p;
   chain.modify(ctx);
-  const law_support::StrengthChange effects(bound_tr, ctx.strength);
+  const law_support::StrengthChange effects(bound_tr, ctx);
   const double rate = ctx.dilation_rate;
 
   const double dir = k.du_s > 0.0 ? 1.0 : (k.du_s < 0.0 ? -1.0 : 0.0);
@@ -178,7 +178,7 @@ void ContinuouslyYielding::update(const Params& p, State& s, const JointKinemati
   // is a continuous function of du_n (the element driver solves for it).
   int n_sub = 1;
   {
-    const double b0 = effects(sig0 * std::tan(phim));
+    const double b0 = effects(sig0 * std::tan(phim), sig0);
     const double r0 = reversal ? -0.75 : s.r;  // a reversal starts near -tau_o: (1 - r) ~ 2
     const double limit = 0.5 * b0 * (1.0 - r0);
     const double need = limit > 0.0 ? std::ceil(ks0 * std::abs(k.du_s) / limit) : 1.0;
@@ -190,12 +190,12 @@ void ContinuouslyYielding::update(const Params& p, State& s, const JointKinemati
     tau = tau_old;
     up = s.plastic_slip;
     rr = s.r;
-    const double bound0 = effects(sigma * std::tan(phi_m(p, up)));
+    const double bound0 = effects(sigma * std::tan(phi_m(p, up)), sigma);
     if (reversal) rr = bound0 > 0.0 ? std::min(tau / (dir * bound0), 0.75) : 0.0;
     if (dir != 0.0) {
       const double h = k.du_s / n_sub;
       for (int i = 0; i < n_sub; ++i) {
-        const double bound = effects(sigma * std::tan(phi_m(p, up)));
+        const double bound = effects(sigma * std::tan(phi_m(p, up)), sigma);
         if (bound <= 0.0) {  // no strength left: the joint slides freely
           tau = 0.0;
           up += std::abs(h);

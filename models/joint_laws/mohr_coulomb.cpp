@@ -99,7 +99,7 @@ void MohrCoulomb::update(const Params& p, const Derived& d, State& s, const Join
   ctx.roughness_at = [](const void* law, double, double) { return static_cast<const Params*>(law)->dilation_angle; };
   ctx.law = &p;
   chain.modify(ctx);
-  const law_support::StrengthChange effects(strength_tr, ctx.strength);
+  const law_support::StrengthChange effects(strength_tr, ctx);
   const double rate = ctx.dilation_rate;
 
   const double tau_old = s.tau;
@@ -107,7 +107,7 @@ void MohrCoulomb::update(const Params& p, const Derived& d, State& s, const Join
   double tau = tau_tr, dus_p = 0.0, ddil = 0.0;
   bool slipping = false;
   auto step = [&](double sigma) {
-    const double strength = effects(s.cohesion + sigma * tan_phi);
+    const double strength = effects(s.cohesion + sigma * tan_phi, sigma);
     slipping = std::abs(tau_tr) > strength;
     tau = slipping ? std::copysign(strength, tau_tr) : tau_tr;
     dus_p = slipping ? k.du_s - (tau - tau_old) / p.ks : 0.0;  // plastic part of the increment

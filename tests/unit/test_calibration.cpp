@@ -129,12 +129,13 @@ TEST(Calibration, FixedParametersStayFixedAndBoundsAreRespected) {
   EXPECT_TRUE(warned);
 }
 
-// A model joint that cannot follow the record's normal condition on some increments (here
-// Mohr-Coulomb with dilation_recovery and rate_and_state on the first reversal of test 14's twin:
-// the regularised creep just after a reversal leaves no consistent normal stress, and the joint
-// lifts off) is fitted, but the result counts those increments and warns; a model that follows
-// the same record counts none.
-TEST(Calibration, IncrementsThatMissTheNormalConditionAreCountedAndWarned) {
+// The fitted model's run counts its increments and those that missed the stage's normal
+// condition (JSON `increments`, `missed_increments`; a warning when any). Mohr-Coulomb with
+// dilation_recovery and rate_and_state on the first reversals of test 14's twin missed 3,039 of
+// 15,991 before rate_and_state's strength was evaluated at the final normal stress
+// (2026-11-28): the regularised creep just after a reversal, carried as a factor, left no
+// consistent normal stress, and the joint lifted off. Now it misses none, as the law alone.
+TEST(Calibration, IncrementsThatMissTheNormalConditionAreCounted) {
   MeasurementFile f = read_measurement_csv(std::string(ROCKDEM_SOURCE_DIR) + "/cases/direct_shear/twins/test14.csv");
   f.rows.resize(300);  // the first stroke and the first reversals, to 0.3 s
   const Segmentation seg = segment(f);
@@ -146,9 +147,8 @@ TEST(Calibration, IncrementsThatMissTheNormalConditionAreCountedAndWarned) {
            {"kn", "200 GPa/m"}, {"ks", "10 GPa/m"}, {"friction", "40 deg"}, {"dilation_angle", "10 deg"}})
     o.fix_text[name] = value;
   const CalibrationResult plain = calibrate(f, seg, o);
-  EXPECT_GT(plain.increments, 0);
+  EXPECT_GT(plain.increments, static_cast<long>(f.rows.size()));
   EXPECT_EQ(plain.missed_increments, 0);
-  for (const auto& w : plain.warnings) EXPECT_EQ(w.find("missed"), std::string::npos) << w;
 
   o.effects = {"dilation_recovery", "rate_and_state"};
   for (const auto& [name, value] : std::map<std::string, std::string>{{"dilation_recovery.residual_fraction", "0"},
@@ -158,14 +158,9 @@ TEST(Calibration, IncrementsThatMissTheNormalConditionAreCountedAndWarned) {
                                                                        {"rate_and_state.critical_slip", "20 um"}})
     o.fix_text[name] = value;
   const CalibrationResult r = calibrate(f, seg, o);
-  EXPECT_GT(r.increments, 0);
-  EXPECT_GT(r.missed_increments, 0);
-  EXPECT_LT(r.missed_increments, r.increments);
-  bool warned = false;
-  for (const auto& w : r.warnings)
-    warned = warned || w.find("missed the stage's normal condition on " + std::to_string(r.missed_increments) + " of its " +
-                              std::to_string(r.increments) + " increments") != std::string::npos;
-  EXPECT_TRUE(warned);
+  EXPECT_GT(r.increments, static_cast<long>(f.rows.size()));
+  EXPECT_EQ(r.missed_increments, 0);
+  for (const auto& w : r.warnings) EXPECT_EQ(w.find("missed the stage's normal condition"), std::string::npos) << w;
   const nlohmann::json j = to_json(r);
   EXPECT_EQ(j.at("missed_increments").get<long>(), r.missed_increments);
   EXPECT_EQ(j.at("increments").get<long>(), r.increments);

@@ -112,6 +112,27 @@ TEST(EffectRateAndState, SteadyStateFrictionFollowsTheClosedForm) {
   }
 }
 
+// The same with a dilating joint (dilation angle 10 deg, sliding on): each increment ends at a
+// normal stress other than its trial one (the driver's 3 MPa, the trial stress above it by the
+// dilation's kn dd), and the effect's strength is that at the final stress, so the plateau is
+// still 3 mu_ss(V). Until 2026-11-28 the effect's change was carried there as the factor found
+// at the trial stress, and the plateau was off by some kPa.
+TEST(EffectRateAndState, DilatingJointSlidesAtTheSteadyStateFrictionOfItsFinalNormalStress) {
+  const double mu0 = std::tan(38.0 * kDeg);
+  for (const auto& [a, b] : {std::pair{0.005, 0.01}, std::pair{0.012, 0.004}}) {
+    for (const double v : {1e-4, 1e-2}) {
+      auto m = model("mohr_coulomb", mc_report({{"dilation_angle", "10 deg"}}), {rs(a, b)});
+      ElementDriver d(*m);
+      const auto f = d.run({cnl(3e6, ShearPath::cycles(0.003, 1, v, true))});
+      EXPECT_EQ(d.unconverged_steps(), 0);
+      const std::size_t end = row_at(f, 3.0);
+      ASSERT_LT(end, f.rows.size());
+      EXPECT_GT(f.rows[end].normal_disp_mm, f.rows[row_at(f, 1.5)].normal_disp_mm);  // still dilating
+      EXPECT_NEAR(f.rows[end].shear_stress_MPa, 3.0 * mu_ss(a, b, 4.2e-5, mu0, v), 1e-6) << "a " << a << " b " << b << " V " << v;
+    }
+  }
+}
+
 // A velocity step from 0.1 to 1 mm/s: the direct effect raises friction by about a ln 10 at once,
 // then it evolves over a few Dc to the new steady state, lower by (b - a) ln 10 (velocity
 // weakening): the classic rate-and-state transient.

@@ -95,7 +95,13 @@ const std::vector<Protocol>& protocols() {
 // that cut the error 3x or to the noise, last rungs at the noise (within twice the ceiling). The
 // draws come from libstdc++'s distributions (their sequences are the implementation's): another
 // standard library draws other records, and these counts would need measuring again.
-constexpr std::size_t kGateHits = 59, kGateClean = 19, kGateOne = 29, kGateTwo = 11, kGateCut = 37, kGateFloor = 41;
+// Cut and floor went from 37 and 41 to 36 and 40 on 2026-11-28 (third session), when
+// rate_and_state's strength came to be evaluated at the final normal stress: the records with
+// that effect changed with it. Seed 12's (Mohr-Coulomb, harmonic, rate_and_state +
+// reverse_shear_degradation) now gets an empty ladder: reverse_shear_degradation alone stops at
+// the iteration limit above the baseline's error, its model missing 32 of 5,076 increments.
+// Seed 27 stays a hit; the hits stay 59.
+constexpr std::size_t kGateHits = 59, kGateClean = 19, kGateOne = 29, kGateTwo = 11, kGateCut = 36, kGateFloor = 40;
 
 constexpr double kStep = 2.5e-5;  // element increment [m]
 constexpr double kV = 4.2e-5;     // the report's pseudostatic rate [m/s]
