@@ -516,7 +516,6 @@ class DiagnosisRun {
       : data_(data), seg_(seg), options_(std::move(options)) {}
 
   Diagnosis run() {
-    const auto t0 = t0_;
     check_record_length();
     check_base_laws();
     d_.law = options_.base.law;
@@ -534,7 +533,7 @@ class DiagnosisRun {
     climb_ladder();
     doubt_a_toss_up();
     d_.confident = d_.doubts.empty();
-    d_.wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    d_.wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0_).count();
     return std::move(d_);
   }
 

@@ -72,10 +72,10 @@ struct StrengthChange {
   double (*strength_at)(const double*, double, double) = nullptr;
   const double* args = nullptr;
   double before = 1.0, before_offset = 0.0, after = 1.0;
-  StrengthChange(double base, double changed)
-      : factor(base > 0.0 ? changed / base : 1.0), offset(base > 0.0 ? 0.0 : changed - base) {}
-  // `ctx` after the effects' modify (it must outlive this object): its strength function, if any.
-  StrengthChange(double base, const ShearContext& ctx) : StrengthChange(base, ctx.strength) {
+  // `base`: the law's own strength at the trial stress; `ctx` after the effects' modify (it must
+  // outlive this object).
+  StrengthChange(double base, const ShearContext& ctx)
+      : factor(base > 0.0 ? ctx.strength / base : 1.0), offset(base > 0.0 ? 0.0 : ctx.strength - base) {
     if (!ctx.strength_at) return;
     strength_at = ctx.strength_at;
     args = ctx.strength_args.data();

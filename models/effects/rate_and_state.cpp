@@ -17,13 +17,16 @@
 // increasing convex equation in mu, solved by Newton from the no-slip side (monotone convergence):
 //   strength + sigma_n (mu - mu0) + ks dt V(mu) = tau_tr.
 // A stuck joint thus creeps at the tiny V the regularised law gives below its static strength
-// (and ages: theta grows by dt), a slipping one slips at the rate its overstress implies. theta is
-// taken at the start of the increment and then advanced over dt exactly for that V:
+// (and ages: theta grows by dt), a slipping one slips at the rate its overstress implies. The law
+// asks for the strength again at each normal stress of its consistency solve (strength_at). theta
+// is taken at the start of the increment and advanced over dt exactly for the V the increment
+// ends with (after()):
 // theta <- Dc/V + (theta - Dc/V) exp(-V dt/Dc). With dt = 0 (pseudo-static element paths, a
 // pure normal load) the joint is taken as sliding in steady state at V0: theta = Dc/V0 and the
 // base law's strength is left as it is.
 #include <algorithm>
 #include <array>
+#include <tuple>
 #include <cmath>
 #include <numbers>
 
@@ -77,6 +80,7 @@ struct RateAndState {
   // What modify() reads at the trial stress, held while the law asks for the strength at other
   // normal stresses (ShearContext::strength_at).
   enum Arg { kA, kV0, kPsi, kKdt, kTauTr, kMu0, kVTotal, kArgs };
+  static_assert(kArgs <= std::tuple_size_v<decltype(ShearContext::strength_args)>);
   // The strength for `handed` (the strength the effect is handed) at normal stress `sigma`:
   // h(mu) = 0 solved by Newton (see the top of the file).
   static double strength_at(const double* q, double handed, double sigma) {
