@@ -179,6 +179,7 @@ void ElementDriver::solve_normal(const ElementStage& stage, double du_s, double 
   auto residual = [&](double du_n) {
     trial = state_;
     k.du_n = du_n;
+    k.sigma_n_given = target(du_n);  // the law's strength at the stress the condition asks for
     m.update(trial, k, rr);
     return rr.sigma_n - target(du_n);
   };

@@ -27,6 +27,7 @@
 #include <concepts>
 #include <cstddef>
 #include <cstring>
+#include <limits>
 #include <memory>
 #include <string>
 #include <type_traits>
@@ -43,6 +44,14 @@ struct JointKinematics {
   double du_s = 0.0;    // shear displacement increment, relative (top minus bottom) [m]
   double dt = 0.0;      // time increment [s] (0 in pseudo-static element paths)
   double length = 1.0;  // contact length [m] (for laws that need it; stresses are per area)
+  // The normal stress the increment is to end at, where the caller prescribes it (the element
+  // driver solving for a stage's normal condition; NaN: not prescribed, as in the DEM engine).
+  // A law whose strength depends on the normal stress evaluates it there instead of solving for
+  // the normal stress consistent with its dilation (law_support::solve_increment): the caller's
+  // normal displacement then meets the condition where the law's response says it does, and
+  // that response is monotone in du_n even past the fold of a contracting joint, where the
+  // consistent stress of a given du_n may not exist.
+  double sigma_n_given = std::numeric_limits<double>::quiet_NaN();
 };
 
 // Output of one update (stresses are the state after the increment).

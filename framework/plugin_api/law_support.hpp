@@ -212,10 +212,20 @@ ConsistentStress consistent_sigma(double sigma_trial, double guess, Step&& step)
 
 // One increment's normal stress for the three laws: the trial stress when the increment does not
 // dilate (rate 0), else the consistent one started from the previous normal stress when the joint
-// was closed. Same contract as consistent_sigma: the last call made was step(the answer).
-// Returns whether the answer is consistent (false: the explicit update at the trial stress).
+// was closed. Where the caller prescribes the final normal stress (JointKinematics::
+// sigma_n_given, finite) the strength is evaluated there, once: the caller solves for the normal
+// displacement at which the increment ends at that stress, and at its answer the update is
+// consistent (the same fixed point consistent_sigma would look for, found from the outside, where
+// it is unique even when the law's own solve has two or none). Same contract as consistent_sigma:
+// the last call made was step(the answer). Returns whether the answer is consistent (false: the
+// explicit update at the trial stress); with a prescribed stress, true: meeting it is the
+// caller's check.
 template <class Step>
-bool solve_increment(double rate, double sigma_trial, double previous_sigma, Step&& step) {
+bool solve_increment(double rate, double sigma_trial, double previous_sigma, double sigma_given, Step&& step) {
+  if (std::isfinite(sigma_given)) {
+    step(sigma_given);
+    return true;
+  }
   if (rate == 0.0) {
     step(sigma_trial);  // no dilation: the trial stress is final
     return true;

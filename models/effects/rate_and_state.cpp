@@ -79,7 +79,7 @@ struct RateAndState {
   }
   // What modify() reads at the trial stress, held while the law asks for the strength at other
   // normal stresses (ShearContext::strength_at).
-  enum Arg { kA, kV0, kPsi, kKdt, kTauTr, kMu0, kVTotal, kArgs };
+  enum Arg { kA, kV0, kPsi, kKdt, kTauTr, kMu0, kArgs };
   static_assert(kArgs <= std::tuple_size_v<decltype(ShearContext::strength_args)>);
   // The strength for `handed` (the strength the effect is handed) at normal stress `sigma`:
   // h(mu) = 0 solved by Newton (see the top of the file).
@@ -90,16 +90,26 @@ struct RateAndState {
     // h(mu) = base + sigma mu + kdt V(mu) - tau_tr, V(mu) = V0 [e^((mu - psi)/a) - e^((-mu - psi)/a)].
     const double mu_hi = (tau_tr - base) / sigma;  // V = 0
     if (!(mu_hi > 0.0)) return std::max(0.0, base);
-    // Start from the friction at the increment's total velocity (the slip rate of steady
-    // sliding): a start left of the root lands right of it after one step (h is convex), and
-    // from the right Newton decreases monotonically to it. (Started instead from the friction
-    // found at the trial stress, a start left of the root could land near mu_hi, where V is
-    // astronomically large and each step gains only about a: 10 times slower on test 14.)
-    double mu = mu_hi;
-    if (q[kVTotal] > 0.0) {
-      const double l = std::log(q[kVTotal] / (2.0 * v0)) + psi / a;
-      mu = std::min(mu_hi, l > 20.0 ? a * (l + std::numbers::ln2) : a * std::asinh(std::exp(l)));
+    // Start from the root without the sinh's decaying exponential (e^((-mu - psi)/a), below
+    // e^(-2 mu/a) of the other: negligible unless the friction is a few a): with the overstress
+    // y = mu_hi - mu that equation is sigma y = kdt V0 e^((mu_hi - psi)/a) e^(-y/a), i.e.
+    // (y/a) e^(y/a) = e^L, whose root is y = a W(e^L) (Lambert's W), found by Newton on
+    // u = ln(y/a): e^u + u = L (convex and increasing, a few steps). Newton on h then polishes
+    // it in one or two steps. (From the friction at the increment's total velocity instead, a
+    // creeping increment, whose slip rate lies tens of e-folds below that velocity, took one
+    // Newton step per e-fold: some 40 steps of two exponentials each, 65 % of a fit's time on
+    // test 14's twin. From the friction at the trial stress a start left of the root could land
+    // near mu_hi, where each step gains only about a: 10 times slower still.)
+    const double L = std::log(kdt * v0 / (sigma * a)) + (mu_hi - psi) / a;
+    double u = L > 1.0 ? std::log(L - std::log(L)) : L;  // W(e^L) ~ L - ln L for large L, e^L for small
+    for (int it = 0; it < 50; ++it) {
+      const double eu = std::exp(u);
+      const double du = (eu + u - L) / (eu + 1.0);
+      u -= du;
+      if (!(std::abs(du) > 1e-13)) break;
     }
+    double mu = std::clamp(mu_hi - a * std::exp(u), 0.0, mu_hi);
+    if (!std::isfinite(mu)) mu = mu_hi;
     for (int it = 0; it < 60; ++it) {
       const double ep = std::exp((mu - psi) / a), em = std::exp((-mu - psi) / a);
       const double v = v0 * (ep - em);
@@ -116,7 +126,14 @@ struct RateAndState {
       return;
     }
     const double sigma = ctx.sigma_n, kdt = ctx.shear_stiffness * ctx.dt;
-    if (!(sigma > 0.0) || !(kdt > 0.0)) return;  // no contact: the surfaces age (after())
+    if (!(kdt > 0.0)) return;  // no shear stiffness: the surfaces age (after())
+    // A trial stress at or below zero is no reason to leave the strength alone: a dilating
+    // increment under a stiff kn can end in contact from a tensile trial stress (the dilation
+    // pushes the surfaces together), and the law asks for the strength at that final stress. (Left
+    // alone there, the strength jumped with the trial stress's sign, and the element driver's
+    // normal solve, meeting that jump at the root, scanned and halved: on test 14's twin the first
+    // increment of each stage, a third of a fit's time.) strength_at leaves a joint without
+    // contact as it is.
     std::array<double, 8>& q = ctx.strength_args;
     q[kA] = p.a;
     q[kV0] = p.v0;
@@ -124,7 +141,6 @@ struct RateAndState {
     q[kPsi] = q[kMu0] + p.b * std::log(p.v0 * s.theta / p.dc);
     q[kKdt] = kdt;
     q[kTauTr] = std::abs(ctx.tau + ctx.shear_stiffness * ctx.du_s);
-    q[kVTotal] = std::abs(ctx.du_s) / ctx.dt;
     // The law asks again at the normal stress its increment ends at (the slip rate, and with it
     // the friction, follow it); carrying the change made here as a factor instead left a joint
     // that creeps just after a reversal (the regularised law never stops) and takes dilation back

@@ -204,15 +204,21 @@ void BartonBandis::update(const Params& p, const Derived& d, State& s, const Joi
   // normal stress, the applied one); the strength uses the consistent stress below.
   const double sigma_psi = s.sigma_n > 0.0 ? s.sigma_n : sigma_tr;
   const double m_tr = mobilised_roughness(p, d, s.delta, sigma_psi);
-  const double strength_tr = strength(p, d, s.delta, sigma_tr);
+  // The normal stress the effects see: the one the caller prescribes for the increment's end
+  // where it does (the element driver), else the trial stress. At the trial stress an effect that
+  // acts only in contact (sigma_n > 0) switched off where a dilating increment under a stiff kn
+  // has a tensile trial stress yet ends in contact, and the strength then jumped with the normal
+  // displacement the driver solves for (test 14's twin: a scan and halving at each such increment).
+  const double sigma_fx = std::isfinite(k.sigma_n_given) ? k.sigma_n_given : sigma_tr;
+  const double strength_fx = strength(p, d, s.delta, sigma_fx);
   ShearContext ctx;
-  ctx.sigma_n = sigma_tr;
+  ctx.sigma_n = sigma_fx;
   ctx.u_s = u_s_before;
   ctx.du_s = k.du_s;
   ctx.plastic_slip = s.delta;
   ctx.basic_friction = p.residual_friction;
   ctx.roughness_angle = std::max(0.0, m_tr);  // the negative pre-peak JRC_mob is not an asperity angle
-  ctx.strength = strength_tr;
+  ctx.strength = strength_fx;
   ctx.dilation_rate = sign * std::tan(0.5 * std::max(0.0, m_tr));  // eq. 3-7
   ctx.toward_origin = u_s_before * k.du_s < 0.0;
   ctx.dt = k.dt;
@@ -225,7 +231,7 @@ void BartonBandis::update(const Params& p, const Derived& d, State& s, const Joi
   };
   ctx.law = &view;
   chain.modify(ctx);
-  const law_support::StrengthChange effects(strength_tr, ctx);
+  const law_support::StrengthChange effects(strength_fx, ctx);
   const double rate = ctx.dilation_rate;
 
   const double tau_old = s.tau;
@@ -250,7 +256,7 @@ void BartonBandis::update(const Params& p, const Derived& d, State& s, const Joi
   };
   // Whether the strength is consistent with the final normal stress (JointResponse::consistent);
   // report() and the open paths below leave it as set here.
-  r.consistent = law_support::solve_increment(rate, sigma_tr, s.sigma_n, step);
+  r.consistent = law_support::solve_increment(rate, sigma_tr, s.sigma_n, k.sigma_n_given, step);
 
   // No tensile strength: open if the closure after the increment's dilation is negative (the
   // shear increment then acted on no contact and is discarded).

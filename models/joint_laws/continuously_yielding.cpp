@@ -141,19 +141,25 @@ void ContinuouslyYielding::update(const Params& p, State& s, const JointKinemati
   const double sign = law_support::dilation_sign(p.dilation, u_s_before, k.du_s, p.critical_shear_disp,
                                                  s.ucs_reached);
   const double phim = phi_m(p, s.plastic_slip);
-  const double bound_tr = sigma_tr * std::tan(phim);
+  // The normal stress the effects see: the one the caller prescribes for the increment's end
+  // where it does (the element driver), else the trial stress. At the trial stress an effect that
+  // acts only in contact (sigma_n > 0) switched off where a dilating increment under a stiff kn
+  // has a tensile trial stress yet ends in contact, and the strength then jumped with the normal
+  // displacement the driver solves for (test 14's twin: a scan and halving at each such increment).
+  const double sigma_fx = std::isfinite(k.sigma_n_given) ? k.sigma_n_given : sigma_tr;
+  const double bound_fx = sigma_fx * std::tan(phim);
   // Eq. 3-16 with the stresses at the start of the increment (the normal stress the strength
   // and dilation were in balance with; under constant normal stress this is the applied one).
   const double sigma_psi = s.sigma_n > 0.0 ? s.sigma_n : sigma_tr;
   const double psi = sigma_psi > 0.0 ? std::max(0.0, std::atan(std::abs(s.tau) / sigma_psi) - p.friction) : 0.0;
   ShearContext ctx;
-  ctx.sigma_n = sigma_tr;
+  ctx.sigma_n = sigma_fx;
   ctx.u_s = u_s_before;
   ctx.du_s = k.du_s;
   ctx.plastic_slip = s.plastic_slip;
   ctx.basic_friction = p.friction;
   ctx.roughness_angle = phim - p.friction;
-  ctx.strength = bound_tr;
+  ctx.strength = bound_fx;
   ctx.dilation_rate = sign * std::tan(psi);  // eq. 3-16
   ctx.dilation_follows_stress = true;
   ctx.toward_origin = u_s_before * k.du_s < 0.0;
@@ -168,7 +174,7 @@ void ContinuouslyYielding::update(const Params& p, State& s, const JointKinemati
   };
   ctx.law = &p;
   chain.modify(ctx);
-  const law_support::StrengthChange effects(bound_tr, ctx);
+  const law_support::StrengthChange effects(bound_fx, ctx);
   const double rate = ctx.dilation_rate;
 
   const double dir = k.du_s > 0.0 ? 1.0 : (k.du_s < 0.0 ? -1.0 : 0.0);
@@ -215,7 +221,7 @@ void ContinuouslyYielding::update(const Params& p, State& s, const JointKinemati
   };
   // Whether the strength is consistent with the final normal stress (JointResponse::consistent);
   // report() and the open paths below leave it as set here.
-  r.consistent = law_support::solve_increment(rate, sigma_tr, s.sigma_n, step);
+  r.consistent = law_support::solve_increment(rate, sigma_tr, s.sigma_n, k.sigma_n_given, step);
 
   // No tensile strength: the joint opens if the stress after the increment's dilation is tensile
   // (the shear increment then acted on no contact and is discarded).

@@ -82,15 +82,21 @@ void MohrCoulomb::update(const Params& p, const Derived& d, State& s, const Join
   const double sign = law_support::dilation_sign(p.dilation, u_s_before, k.du_s, p.critical_shear_disp,
                                                  s.ucs_reached);
   const double tan_phi = d.tan_friction;
-  const double strength_tr = std::max(0.0, s.cohesion + sigma_tr * tan_phi);
+  // The normal stress the effects see: the one the caller prescribes for the increment's end
+  // where it does (the element driver), else the trial stress. At the trial stress an effect that
+  // acts only in contact (sigma_n > 0) switched off where a dilating increment under a stiff kn
+  // has a tensile trial stress yet ends in contact, and the strength then jumped with the normal
+  // displacement the driver solves for (test 14's twin: a scan and halving at each such increment).
+  const double sigma_fx = std::isfinite(k.sigma_n_given) ? k.sigma_n_given : sigma_tr;
+  const double strength_fx = std::max(0.0, s.cohesion + sigma_fx * tan_phi);
   ShearContext ctx;
-  ctx.sigma_n = sigma_tr;
+  ctx.sigma_n = sigma_fx;
   ctx.u_s = u_s_before;
   ctx.du_s = k.du_s;
   ctx.plastic_slip = s.plastic_slip;
   ctx.basic_friction = p.friction;
   ctx.roughness_angle = std::abs(u_s_before) < p.critical_shear_disp ? p.dilation_angle : 0.0;  // eq. 3-4
-  ctx.strength = strength_tr;
+  ctx.strength = strength_fx;
   ctx.dilation_rate = sign * d.tan_dilation;
   ctx.toward_origin = u_s_before * k.du_s < 0.0;
   ctx.dt = k.dt;
@@ -99,7 +105,7 @@ void MohrCoulomb::update(const Params& p, const Derived& d, State& s, const Join
   ctx.roughness_at = [](const void* law, double, double) { return static_cast<const Params*>(law)->dilation_angle; };
   ctx.law = &p;
   chain.modify(ctx);
-  const law_support::StrengthChange effects(strength_tr, ctx);
+  const law_support::StrengthChange effects(strength_fx, ctx);
   const double rate = ctx.dilation_rate;
 
   const double tau_old = s.tau;
@@ -116,7 +122,7 @@ void MohrCoulomb::update(const Params& p, const Derived& d, State& s, const Join
   };
   // Whether the strength is consistent with the final normal stress (JointResponse::consistent);
   // report() and the open paths below leave it as set here.
-  r.consistent = law_support::solve_increment(rate, sigma_tr, s.sigma_n, step);
+  r.consistent = law_support::solve_increment(rate, sigma_tr, s.sigma_n, k.sigma_n_given, step);
 
   // Tensile failure (report section 3.1) is judged after the increment's dilation, which pushes
   // the surfaces together under constrained normal displacement: sigma_n becomes zero and the

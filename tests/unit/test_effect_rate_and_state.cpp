@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <numbers>
+#include <string>
 
 #include "framework/lab/lab_case.hpp"
 #include "tests/unit/effect_test_util.hpp"
@@ -22,8 +23,13 @@ constexpr double kDeg = std::numbers::pi / 180.0;
 double mu_ss(double a, double b, double v0, double mu0, double v) {
   return a * std::asinh(v / (2.0 * v0) * std::exp((mu0 + b * std::log(v0 / v)) / a));
 }
+std::string num(double x) {  // std::to_string would write 1e-9 as 0.000000
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.17g", x);
+  return buf;
+}
 EffectSpec rs(double a = 0.005, double b = 0.01) {
-  return effect("rate_and_state", {{"a", std::to_string(a)}, {"b", std::to_string(b)}, {"critical_slip", "20 um"},
+  return effect("rate_and_state", {{"a", num(a)}, {"b", num(b)}, {"critical_slip", "20 um"},
                                    {"reference_velocity", "0.042 mm/s"}});
 }
 // Local maxima of |tau| over rows [from, to) that stand out of their neighbourhood by `drop` MPa
@@ -129,6 +135,49 @@ TEST(EffectRateAndState, DilatingJointSlidesAtTheSteadyStateFrictionOfItsFinalNo
       ASSERT_LT(end, f.rows.size());
       EXPECT_GT(f.rows[end].normal_disp_mm, f.rows[row_at(f, 1.5)].normal_disp_mm);  // still dilating
       EXPECT_NEAR(f.rows[end].shear_stress_MPa, 3.0 * mu_ss(a, b, 4.2e-5, mu0, v), 1e-6) << "a " << a << " b " << b << " V " << v;
+    }
+  }
+}
+
+// One increment of a cohesionless Mohr-Coulomb joint without dilation from theta = Dc/V0 (psi =
+// mu0): the strength S = sigma_n mu solves sigma_n mu + ks dt V(mu) = tau_tr with
+// V(mu) = 2 V0 e^(-mu0/a) sinh(mu/a), checked against bisection of that equation here, over
+// direct effects from 1e-9 (the fit's lower bound) to 0.3 and increments from a creep far below
+// the strength (tens of e-folds below its total velocity: the case a Newton start at that
+// velocity took some 40 steps over) to fast sliding. The solver starts from a Lambert-W
+// approximation (docs/theory/effects.md); the answer is the root whatever the start.
+TEST(EffectRateAndState, OneIncrementsStrengthIsTheRootOfTheSlipRateEquation) {
+  const double mu0 = std::tan(38.0 * kDeg), ks = 10e9, sigma = 3e6;
+  for (const double a : {1e-9, 1e-4, 0.01, 0.3}) {
+    for (const double dt : {1e-4, 1.0}) {
+      for (const double overstress : {-0.2, -1e-3, 1e-6, 1e-3, 0.2, 2.0}) {  // tau_tr/(sigma mu0) - 1
+        auto m = model("mohr_coulomb", mc_report({{"dilation_angle", "0 deg"}, {"ks", "10 GPa/m"}}), {rs(a, 0.01)});
+        JointStateBlock st;
+        m->init(st);
+        JointResponse r;
+        JointKinematics k;
+        k.du_n = -sigma / m->initial_kn();  // load to 3 MPa, dt = 0: theta = Dc/V0
+        m->update(st, k, r);
+        ASSERT_NEAR(r.sigma_n, sigma, 1e-3);
+        const double tau_tr = sigma * mu0 * (1.0 + overstress);
+        k = JointKinematics{};
+        k.du_s = tau_tr / ks;
+        k.dt = dt;
+        m->update(st, k, r);
+        const double v0 = 4.2e-5, kdt = ks * dt;
+        auto h = [&](double mu) {  // increasing in mu
+          const double v = v0 * (std::exp((mu - mu0) / a) - std::exp((-mu - mu0) / a));
+          return sigma * mu + kdt * v - tau_tr;
+        };
+        double lo = 0.0, hi = tau_tr / sigma;
+        for (int i = 0; i < 200; ++i) {
+          const double mid = 0.5 * (lo + hi);
+          (std::isfinite(h(mid)) && h(mid) < 0.0 ? lo : hi) = mid;
+        }
+        EXPECT_NEAR(r.tau, sigma * 0.5 * (lo + hi), 1e-9 * sigma)
+            << "a " << a << " dt " << dt << " overstress " << overstress;
+        EXPECT_LE(r.tau, tau_tr);
+      }
     }
   }
 }

@@ -71,3 +71,28 @@ TEST(EffectTwoOrderRoughness, RaisesFirstPeakAndWearsLaterCyclesOnEveryLaw) {
     EXPECT_LT(max_tau(f, n - n / 10, n), max_tau(g, n - n / 10, n) - 0.05) << law;
   }
 }
+
+// Where the element driver prescribes the final normal stress, the effect acts at it even when the
+// increment's trial stress is tensile (a strongly dilating increment under a stiff kn, opened by
+// the driver's probe, that still ends in contact). Before 2026-11-28 the effect saw the trial
+// stress, left the strength alone there (no contact), and the strength jumped with du_n.
+TEST(EffectTwoOrderRoughness, ActsAtThePrescribedNormalStressWhereTheTrialStressIsTensile) {
+  auto m = model("mohr_coulomb",
+                 values({{"kn", "40 GPa/m"}, {"ks", "10 GPa/m"}, {"friction", "30 deg"}, {"dilation_angle", "10 deg"}}),
+                 {effect("two_order_roughness", {{"second_order_angle", "10 deg"}, {"first_order_loss", "0 deg"}})});
+  JointStateBlock s;
+  m->init(s);
+  JointResponse r;
+  JointKinematics k;
+  k.du_n = -2e6 / 40e9;
+  m->update(s, k, r);
+  ASSERT_NEAR(r.sigma_n, 2e6, 1e-6);
+  k = JointKinematics{};
+  k.du_s = 5e-4;
+  k.du_n = 6e-5;  // trial stress 2 - 2.4 = -0.4 MPa
+  k.sigma_n_given = 2e6;
+  m->update(s, k, r);
+  ASSERT_FALSE(r.open);
+  EXPECT_GT(r.sigma_n, 1.5e6);  // the dilation closes it again
+  EXPECT_NEAR(r.tau, 2e6 * std::tan(40 * kDeg), 1e-6);  // phi + i2, no slip before the increment
+}

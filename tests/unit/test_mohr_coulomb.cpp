@@ -101,3 +101,50 @@ TEST(MohrCoulomb, ParametersAreCheckedWithRangesAndUnits) {
   EXPECT_THROW(model("mohr_coulomb", values({{"ks", "16.93 GPa/m"}})), InputError);  // kn, friction missing
   EXPECT_THROW(model("mohr_coulomb", mc_report({{"jfric", "38 deg"}})), InputError);  // unknown key
 }
+
+// A prescribed final normal stress (JointKinematics::sigma_n_given, what the element driver
+// hands the law): the update there is the consistent one the law's own solve finds, and the
+// normal stress after it moves with du_n at exactly kn, the shear stress not at all (the driver's
+// normal solve meets a straight line).
+TEST(MohrCoulomb, APrescribedNormalStressGivesTheConsistentUpdateAndAStraightResponse) {
+  const double kn = 40e9;
+  auto m = model("mohr_coulomb", values({{"kn", "40 GPa/m"}, {"ks", "10 GPa/m"}, {"friction", "30 deg"},
+                                         {"dilation_angle", "10 deg"}}));
+  JointStateBlock loaded;
+  m->init(loaded);
+  JointResponse r;
+  JointKinematics k;
+  k.du_n = -2e6 / kn;
+  m->update(loaded, k, r);
+  ASSERT_NEAR(r.sigma_n, 2e6, 1e-6);
+  k = JointKinematics{};
+  k.du_s = 5e-4;  // well past the elastic limit: slips and dilates
+  JointStateBlock own = loaded;
+  JointResponse r_own;
+  m->update(own, k, r_own);  // constrained: the law solves for its consistent stress
+  ASSERT_TRUE(r_own.slipping);
+  ASSERT_TRUE(r_own.consistent);
+  ASSERT_GT(r_own.sigma_n, 2.1e6);  // dilation under constrained normal displacement
+  JointStateBlock given = loaded;
+  JointResponse r_given;
+  k.sigma_n_given = r_own.sigma_n;
+  m->update(given, k, r_given);
+  EXPECT_NEAR(r_given.sigma_n, r_own.sigma_n, 1e-5);
+  EXPECT_NEAR(r_given.tau, r_own.tau, 1e-5);
+  EXPECT_NEAR(r_given.dilation, r_own.dilation, 1e-16);
+  EXPECT_TRUE(r_given.consistent);
+  // Under 2 MPa prescribed, opening probes: the strength stays 2 MPa tan 30 deg, and the normal
+  // stress falls by kn per metre of opening.
+  k.sigma_n_given = 2e6;
+  double last_sigma = 0.0;
+  for (int i = 0; i < 5; ++i) {
+    JointStateBlock s = loaded;
+    k.du_n = 1e-5 * i;
+    m->update(s, k, r);
+    EXPECT_NEAR(r.tau, 2e6 * std::tan(30 * kDeg), 1e-6) << i;
+    if (i > 0) {
+      EXPECT_NEAR(last_sigma - r.sigma_n, kn * 1e-5, 1e-4) << i;
+    }
+    last_sigma = r.sigma_n;
+  }
+}
