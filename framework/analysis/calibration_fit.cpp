@@ -208,6 +208,12 @@ ceres::Solver::Summary solve(const Evaluator& ev, std::vector<double>& xs, doubl
   so.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
   so.linear_solver_type = ceres::DENSE_QR;
   so.max_num_iterations = max_iterations;
+  // With bounds, Ceres's trust region searches along each step (a projected line search). Its
+  // default cubic interpolation asks for the gradient at every trial point, and a gradient here
+  // is a finite-difference Jacobian, k model runs: on test 14's twin (MC + dilation_recovery,
+  // k = 5) the fit made 940 runs in 18 iterations, 72 Jacobians in the fine step's 8. Quadratic
+  // interpolation needs the function values only: 240 runs, the same optimum to 2e-5 in NRMSE.
+  so.line_search_interpolation_type = ceres::QUADRATIC;
   so.function_tolerance = 1e-5;
   so.parameter_tolerance = 1e-4;
   so.gradient_tolerance = 1e-8;

@@ -101,7 +101,12 @@ const std::vector<Protocol>& protocols() {
 // reverse_shear_degradation) now gets an empty ladder: reverse_shear_degradation alone stops at
 // the iteration limit above the baseline's error, its model missing 32 of 5,076 increments.
 // Seed 27 stays a hit; the hits stay 59.
-constexpr std::size_t kGateHits = 59, kGateClean = 19, kGateOne = 29, kGateTwo = 11, kGateCut = 36, kGateFloor = 40;
+// On 2026-11-28 (fourth session) the element driver came to hand the law the stage's normal stress
+// (the strength and the effects evaluated there, no jump with the driver's normal displacement)
+// and the fit's bounded steps stopped asking for a Jacobian at each line-search point: every draw
+// is a hit (60; seed 12 too, two of two), the first rung cuts 37 and the last rung is at the
+// noise in all 41; the test's time fell from about 250 s to 73 s.
+constexpr std::size_t kGateHits = 60, kGateClean = 19, kGateOne = 29, kGateTwo = 12, kGateCut = 37, kGateFloor = 41;
 
 constexpr double kStep = 2.5e-5;  // element increment [m]
 constexpr double kV = 4.2e-5;     // the report's pseudostatic rate [m/s]
