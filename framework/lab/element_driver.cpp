@@ -183,6 +183,10 @@ void ElementDriver::solve_normal(const ElementStage& stage, double du_s, double 
     m.update(trial, k, rr);
     return rr.sigma_n - target(du_n);
   };
+  // The law is handed the target (k.sigma_n_given, above): the published laws then evaluate their
+  // strength there, g falls with du_n at the closure slope, and search 1 below meets it in one or
+  // two evaluations. What follows remains for responses that still jump (a joint opening or
+  // closing within the increment, a law that does not read the prescribed stress).
   // A normal displacement at which the law found no consistent normal stress (it kept its explicit
   // update at the trial stress, JointResponse::consistent) can still meet the target: past the
   // fold, the explicit update's final stress falls as the joint opens, like a true answer's, and

@@ -49,8 +49,10 @@ struct JointKinematics {
   // A law whose strength depends on the normal stress evaluates it there instead of solving for
   // the normal stress consistent with its dilation (law_support::solve_increment): the caller's
   // normal displacement then meets the condition where the law's response says it does, and
-  // that response is monotone in du_n even past the fold of a contracting joint, where the
-  // consistent stress of a given du_n may not exist.
+  // under a constant normal stress that response falls with du_n at the closure curve's slope
+  // even past the fold of a contracting joint, where the consistent stress of a given du_n may
+  // not exist (under a constant normal stiffness K too, unless K is of the order of
+  // ks/(|dilation rate| tan(phi)), far stiffer than a laboratory's).
   double sigma_n_given = std::numeric_limits<double>::quiet_NaN();
 };
 
@@ -71,7 +73,11 @@ struct JointResponse {
   // joint past the fold, kn |dilation rate| tan(phi) > ks, or its secant did not converge) and
   // the explicit update at the trial stress was kept, as UDEC does. The DEM engine takes such an
   // update as it is; the element driver, solving for a normal stress, does not accept it as
-  // meeting the stage's normal condition. Set afresh by every update: not checkpointed or packed.
+  // meeting the stage's normal condition. Handed a prescribed stress (JointKinematics::
+  // sigma_n_given) the published laws evaluate their strength there and report true, whether or
+  // not the increment ends there (meeting it is the caller's check): the driver's rejection then
+  // concerns laws that do not read the prescribed stress. Set afresh by every update: not
+  // checkpointed or packed.
   bool consistent = true;
 };
 

@@ -100,7 +100,8 @@ struct RateAndState {
     // Newton step per e-fold: some 40 steps of two exponentials each, 65 % of a fit's time on
     // test 14's twin. From the friction at the trial stress a start left of the root could land
     // near mu_hi, where each step gains only about a: 10 times slower still.)
-    const double L = std::log(kdt * v0 / (sigma * a)) + (mu_hi - psi) / a;
+    const double log_c = std::log(kdt * v0 / (sigma * a));
+    const double L = log_c + (mu_hi - psi) / a;
     double u = L > 1.0 ? std::log(L - std::log(L)) : L;  // W(e^L) ~ L - ln L for large L, e^L for small
     for (int it = 0; it < 50; ++it) {
       const double eu = std::exp(u);
@@ -108,7 +109,10 @@ struct RateAndState {
       u -= du;
       if (!(std::abs(du) > 1e-13)) break;
     }
-    double mu = std::clamp(mu_hi - a * std::exp(u), 0.0, mu_hi);
+    // mu = mu_hi - a e^u, written with e^u = L - u as psi + a (u - ln c): the first form cancels
+    // where the trial stress is many times the normal stress (mu_hi huge: a contact near lift-off
+    // in a rock mass), and a start off by a few e-folds sent Newton to mu_hi.
+    double mu = std::clamp(psi + a * (u - log_c), 0.0, mu_hi);
     if (!std::isfinite(mu)) mu = mu_hi;
     for (int it = 0; it < 60; ++it) {
       const double ep = std::exp((mu - psi) / a), em = std::exp((-mu - psi) / a);
