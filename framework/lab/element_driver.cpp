@@ -179,9 +179,10 @@ void ElementDriver::solve_normal(const ElementStage& stage, double du_s, double 
   auto residual = [&](double du_n) {
     trial = state_;
     k.du_n = du_n;
-    k.sigma_n_given = target(du_n);  // the law's strength at the stress the condition asks for
+    const double t = target(du_n);
+    k.sigma_n_given = t;  // the law's strength at the stress the condition asks for
     m.update(trial, k, rr);
-    return rr.sigma_n - target(du_n);
+    return rr.sigma_n - t;
   };
   // The law is handed the target (k.sigma_n_given, above): the published laws then evaluate their
   // strength there, g falls with du_n at the closure slope, and search 1 below meets it in one or

@@ -60,6 +60,16 @@ inline double dilation_sign(int option, double u_s, double du_s, double u_cs, bo
   }
 }
 
+// The normal stress a law hands its effects (ShearContext::sigma_n) and evaluates their change at:
+// the one the caller prescribes for the increment's end where it does (the element driver,
+// JointKinematics::sigma_n_given), else the trial stress. At the trial stress an effect that acts
+// only in contact (sigma_n > 0) switched off where a dilating increment under a stiff kn has a
+// tensile trial stress yet ends in contact, and the strength then jumped with the normal
+// displacement the driver solves for (test 14's twin: a scan and halving at each such increment).
+inline double effects_sigma(const JointKinematics& k, double sigma_trial) {
+  return std::isfinite(k.sigma_n_given) ? k.sigma_n_given : sigma_trial;
+}
+
 // The change the effects made to the strength a law computed at the trial normal stress, to be
 // applied to the strength at another normal stress (the dilation-consistent one): a factor,
 // since strengths scale with sigma_n, or an offset where the base strength is zero. Without
@@ -72,7 +82,7 @@ struct StrengthChange {
   double (*strength_at)(const double*, double, double) = nullptr;
   const double* args = nullptr;
   double before = 1.0, before_offset = 0.0, after = 1.0;
-  // `base`: the law's own strength at the trial stress; `ctx` after the effects' modify (it must
+  // `base`: the law's own strength at effects_sigma (ctx.sigma_n); `ctx` after the effects' modify (it must
   // outlive this object).
   StrengthChange(double base, const ShearContext& ctx)
       : factor(base > 0.0 ? ctx.strength / base : 1.0), offset(base > 0.0 ? 0.0 : ctx.strength - base) {

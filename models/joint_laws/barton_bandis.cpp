@@ -204,12 +204,7 @@ void BartonBandis::update(const Params& p, const Derived& d, State& s, const Joi
   // normal stress, the applied one); the strength uses the consistent stress below.
   const double sigma_psi = s.sigma_n > 0.0 ? s.sigma_n : sigma_tr;
   const double m_tr = mobilised_roughness(p, d, s.delta, sigma_psi);
-  // The normal stress the effects see: the one the caller prescribes for the increment's end
-  // where it does (the element driver), else the trial stress. At the trial stress an effect that
-  // acts only in contact (sigma_n > 0) switched off where a dilating increment under a stiff kn
-  // has a tensile trial stress yet ends in contact, and the strength then jumped with the normal
-  // displacement the driver solves for (test 14's twin: a scan and halving at each such increment).
-  const double sigma_fx = std::isfinite(k.sigma_n_given) ? k.sigma_n_given : sigma_tr;
+  const double sigma_fx = law_support::effects_sigma(k, sigma_tr);
   const double strength_fx = strength(p, d, s.delta, sigma_fx);
   ShearContext ctx;
   ctx.sigma_n = sigma_fx;

@@ -82,12 +82,7 @@ void MohrCoulomb::update(const Params& p, const Derived& d, State& s, const Join
   const double sign = law_support::dilation_sign(p.dilation, u_s_before, k.du_s, p.critical_shear_disp,
                                                  s.ucs_reached);
   const double tan_phi = d.tan_friction;
-  // The normal stress the effects see: the one the caller prescribes for the increment's end
-  // where it does (the element driver), else the trial stress. At the trial stress an effect that
-  // acts only in contact (sigma_n > 0) switched off where a dilating increment under a stiff kn
-  // has a tensile trial stress yet ends in contact, and the strength then jumped with the normal
-  // displacement the driver solves for (test 14's twin: a scan and halving at each such increment).
-  const double sigma_fx = std::isfinite(k.sigma_n_given) ? k.sigma_n_given : sigma_tr;
+  const double sigma_fx = law_support::effects_sigma(k, sigma_tr);
   const double strength_fx = std::max(0.0, s.cohesion + sigma_fx * tan_phi);
   ShearContext ctx;
   ctx.sigma_n = sigma_fx;
