@@ -141,8 +141,12 @@ void ContinuouslyYielding::update(const Params& p, State& s, const JointKinemati
   const double sign = law_support::dilation_sign(p.dilation, u_s_before, k.du_s, p.critical_shear_disp,
                                                  s.ucs_reached);
   const double phim = phi_m(p, s.plastic_slip);
+  // tan(phi_m) at the increment's starting plastic slip serves the strength below, the sub-step
+  // count and each sub-step that starts there (the first, and any after purely elastic ones):
+  // tan and exp were half of a Continuously-Yielding fit's time when computed each time.
+  const double tan_phim = std::tan(phim);
   const double sigma_fx = law_support::effects_sigma(k, sigma_tr);
-  const double bound_fx = sigma_fx * std::tan(phim);
+  const double bound_fx = sigma_fx * tan_phim;
   // Eq. 3-16 with the stresses at the start of the increment (the normal stress the strength
   // and dilation were in balance with; under constant normal stress this is the applied one).
   const double sigma_psi = s.sigma_n > 0.0 ? s.sigma_n : sigma_tr;
@@ -179,7 +183,7 @@ void ContinuouslyYielding::update(const Params& p, State& s, const JointKinemati
   // is a continuous function of du_n (the element driver solves for it).
   int n_sub = 1;
   {
-    const double b0 = effects(sig0 * std::tan(phim), sig0);
+    const double b0 = effects(sig0 * tan_phim, sig0);
     const double r0 = reversal ? -0.75 : s.r;  // a reversal starts near -tau_o: (1 - r) ~ 2
     const double limit = 0.5 * b0 * (1.0 - r0);
     const double need = limit > 0.0 ? std::ceil(ks0 * std::abs(k.du_s) / limit) : 1.0;
@@ -191,12 +195,17 @@ void ContinuouslyYielding::update(const Params& p, State& s, const JointKinemati
     tau = tau_old;
     up = s.plastic_slip;
     rr = s.r;
-    const double bound0 = effects(sigma * std::tan(phi_m(p, up)), sigma);
+    const double bound0 = effects(sigma * tan_phim, sigma);
     if (reversal) rr = bound0 > 0.0 ? std::min(tau / (dir * bound0), 0.75) : 0.0;
     if (dir != 0.0) {
       const double h = k.du_s / n_sub;
+      double up_tan = s.plastic_slip, tan_up = tan_phim;  // tan(phi_m(up_tan))
       for (int i = 0; i < n_sub; ++i) {
-        const double bound = effects(sigma * std::tan(phi_m(p, up)), sigma);
+        if (up != up_tan) {
+          up_tan = up;
+          tan_up = std::tan(phi_m(p, up));
+        }
+        const double bound = effects(sigma * tan_up, sigma);
         if (bound <= 0.0) {  // no strength left: the joint slides freely
           tau = 0.0;
           up += std::abs(h);
