@@ -82,6 +82,7 @@ struct StrengthChange {
   double (*strength_at)(const double*, double, double) = nullptr;
   const double* args = nullptr;
   double before = 1.0, before_offset = 0.0, after = 1.0;
+  double base_modified = 0.0, sigma_modified = 0.0, strength_modified = 0.0;
   // `base`: the law's own strength at effects_sigma (ctx.sigma_n); `ctx` after the effects' modify (it must
   // outlive this object).
   StrengthChange(double base, const ShearContext& ctx)
@@ -92,10 +93,17 @@ struct StrengthChange {
     before = base > 0.0 ? ctx.strength_handed / base : 1.0;
     before_offset = base > 0.0 ? 0.0 : ctx.strength_handed - base;
     after = ctx.strength_returned > 0.0 ? ctx.strength / ctx.strength_returned : 1.0;
+    base_modified = base;
+    sigma_modified = ctx.sigma_n;
+    strength_modified = std::max(0.0, ctx.strength);
   }
   // The effects' strength for the law's own `strength` at normal stress `sigma`.
   double operator()(double strength, double sigma) const {
     if (!strength_at) return std::max(0.0, strength * factor + offset);
+    // Asked at the stress and base strength the effects were modified at (always, where the
+    // element driver prescribes the stress): their own answer, without solving the effect's
+    // strength again (rate_and_state's friction solve, half of such a fit's time).
+    if (strength == base_modified && sigma == sigma_modified) return strength_modified;
     const double handed = std::max(0.0, strength * before + before_offset);
     return std::max(0.0, after * strength_at(args, handed, sigma));
   }
