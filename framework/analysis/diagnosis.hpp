@@ -65,6 +65,9 @@ struct BaseLawFit {
   bool failed = false;
   std::string reason;     // why the fit failed
   CalibrationResult fit;  // when not failed
+  // Another mode of the same law that is the same model here, whose fit this one is (not fitted
+  // again): udec_legacy is reversible where the critical shear displacement is infinite.
+  std::string same_as;
 };
 // The standard laws (mohr_coulomb, barton_bandis, continuously_yielding; and base.law if it is
 // another) with each of their `dilation` modes, fitted to the record with base's stages and

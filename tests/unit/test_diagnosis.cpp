@@ -499,6 +499,17 @@ TEST(Diagnosis, BaseLawCheckNamesABetterShapeAndBestUsesIt) {
     if (!named.base_laws[i].failed) {
       EXPECT_LE(named.base_laws[i - 1].fit.bic, named.base_laws[i].fit.bic);
     }
+  // No critical shear displacement given: udec_legacy is reversible's model, fitted once.
+  for (const auto& l : named.base_laws) {
+    if (l.dilation != "udec_legacy") continue;
+    EXPECT_EQ(l.same_as, "reversible") << l.law;
+    for (const auto& r : named.base_laws) {
+      if (r.law == l.law && r.dilation == "reversible") {
+        EXPECT_EQ(r.fit.bic, l.fit.bic) << l.law;
+      }
+    }
+    EXPECT_EQ(l.fit.settings.at("dilation"), "udec_legacy");
+  }
   bool warned = false;
   for (const auto& w : named.warnings)
     warned = warned || (w.find("continuously_yielding with dilation") != std::string::npos &&
@@ -552,4 +563,37 @@ TEST(Diagnosis, CleanRecordsOfEachBaseLawGetNoEffect) {
         << law.name << "\n" << format_report(d);
     EXPECT_LT(d.baseline.nrmse[2], 0.05) << law.name << "\n" << format_report(d);
   }
+}
+
+// udec_legacy stops giving dilation back once the critical shear displacement has been reached:
+// with one given to the named law, its udec_legacy is another model and is fitted (its value
+// is not carried to the other laws, whose udec_legacy stays reversible's model).
+TEST(Diagnosis, BaseLawCheckFitsUdecLegacyWhereTheCriticalShearDisplacementIsGiven) {
+  auto model = make_joint_model("mohr_coulomb",
+                                RawValues{{"kn", q("40 GPa/m")}, {"ks", q("12 GPa/m")}, {"friction", q("36 deg")},
+                                          {"dilation_angle", q("5 deg")}, {"dilation", q("reversible")}},
+                                {}, "test");
+  const MeasurementFile f = testutil::noisy_two_stage_record(*model, 2.5e-5, 4, false, 5);
+  const Segmentation seg = segment(f);
+  CalibrationOptions base;
+  base.law = "mohr_coulomb";
+  base.element.max_step = 2.5e-5;
+  base.fit_step = 5e-5;
+  base.law_values["critical_shear_disp"] = q("2 mm");
+  const std::vector<BaseLawFit> fits = fit_base_laws(f, seg, base, 2);
+  int legacy = 0;
+  for (const auto& l : fits) {
+    if (l.dilation != "udec_legacy") continue;
+    ++legacy;
+    EXPECT_EQ(l.same_as, l.law == "mohr_coulomb" ? "" : "reversible") << l.law;
+    EXPECT_FALSE(l.failed) << l.law << ": " << l.reason;
+  }
+  EXPECT_EQ(legacy, 3);
+  const auto mc = [&](const std::string& mode) {
+    return std::find_if(fits.begin(), fits.end(), [&](const BaseLawFit& l) { return l.law == "mohr_coulomb" && l.dilation == mode; });
+  };
+  ASSERT_NE(mc("udec_legacy"), fits.end());
+  ASSERT_NE(mc("reversible"), fits.end());
+  EXPECT_NE(mc("udec_legacy")->fit.rss, mc("reversible")->fit.rss);
+  EXPECT_GT(mc("udec_legacy")->fit.evaluations, 0);
 }
