@@ -263,13 +263,19 @@ bool run_fit(const Evaluator& ev, std::vector<double>& x, double coarse, double 
     if (options.starts < 2) {
       summary = solve(coarse, options.max_iterations);
     } else {
-      // A second start in the middle of the [0, 1] box, in parallel: the data estimates can sit
-      // in the basin of a poorer minimum (a law bent to make up for what it lacks).
+      // A second start in the middle of the [0, 1] box, in parallel where more than one thread
+      // is allowed: the data estimates can sit in the basin of a poorer minimum (a law bent to
+      // make up for what it lacks).
       std::vector<double> x2(kk, 0.5);
       ceres::Solver::Summary s2;
-      std::thread other([&] { s2 = solve_from(x2, coarse, options.max_iterations); });
-      summary = solve(coarse, options.max_iterations);
-      other.join();
+      if (options.threads > 1) {
+        std::thread other([&] { s2 = solve_from(x2, coarse, options.max_iterations); });
+        summary = solve(coarse, options.max_iterations);
+        other.join();
+      } else {
+        s2 = solve_from(x2, coarse, options.max_iterations);
+        summary = solve(coarse, options.max_iterations);
+      }
       if (s2.termination_type != ceres::FAILURE &&
           (summary.termination_type == ceres::FAILURE || s2.final_cost < summary.final_cost)) {
         x = x2;
