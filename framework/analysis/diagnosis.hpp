@@ -197,7 +197,8 @@ struct LadderStep {
 };
 
 // Why the ladder took, or did not take, an effect at one step: a rung must lower the IC
-// (delta_ic) and the combined NRMSE the report shows (by kLadderMinCut of it or more).
+// (delta_ic) and the combined NRMSE the report shows (by kLadderMinCut of it or more); of those
+// that do, the one with the lowest combined NRMSE is taken.
 struct LadderDecision {
   std::size_t step = 0;        // the rung it was tried for (1: the first effect)
   std::string effect;
