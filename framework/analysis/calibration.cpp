@@ -181,9 +181,10 @@ double robust_cost(const std::vector<double>& r, double c) {
 // two can disagree by decades (test 9's twin: the stress softens within 7 mm, the dilation goes on
 // over the 40 mm stroke). Started from the softening, the fit stays in the basin where the law
 // stops dilating early (combined NRMSE 0.249, normal displacement 0.46); from 30 mm or more it
-// finds 0.063. So each such length the record's estimates (not a warm start) set is tried a
-// decade below and one and two above, one after the other, and the start with the lowest
-// objective is kept: a few model runs at the fitting step.
+// finds 0.063. So each such length that neither the user nor a warm start gave (the record's
+// estimate, or the default or lower bound runnable_start fell back to) is tried a decade below
+// and one and two above, one after the other, and the start with the lowest objective is kept: a
+// few model runs at the fitting step.
 void scan_decay_lengths(const Evaluator& ev, const std::vector<Slot>& slots, const std::vector<std::size_t>& free,
                         double coarse, const CalibrationOptions& options, std::vector<double>& x, std::vector<double>& r) {
   double best = robust_cost(r, options.loss_scale);
@@ -432,7 +433,7 @@ CalibrationResult calibrate(const MeasurementFile& data, const Segmentation& seg
 
   // Fine-step evaluation, coarse-step NRMSE, Jacobian and standard errors at the optimum (the
   // residuals at the step of the optimum, fine when polished; the Jacobian at the fitting step,
-  // as the polish takes it: k runs there instead of k fine ones).
+  // as the polish takes it: k + 1 runs there instead of k fine ones).
   const bool at_fine = polished || coarse <= fine;
   const std::vector<double> r_optimum = evaluate_optimum(ev, x, coarse, fine, at_fine, res);
   const Eigen::VectorXd se_x = calibration_detail::unit_standard_errors(ev, x, r_optimum, at_fine ? fine : coarse, coarse, res);

@@ -60,7 +60,7 @@ struct CalibrationOptions {
   double loss_scale = 0.1;          // soft-L1 scale c, fraction of the range; 0: plain least squares
   int max_iterations = 40;          // Levenberg-Marquardt iterations
   int threads = 2;                  // finite-difference columns evaluated in parallel
-  int starts = 1;                   // 2: also start from the middle of the box, in parallel; best kept
+  int starts = 1;                   // 2: also start from the middle of the box (in parallel where threads > 1); best kept
   double fd_step = 2e-3;            // forward-difference step in the [0, 1] parameter space
   CompareOptions compare;
 };

@@ -223,7 +223,7 @@ ceres::Solver::Summary solve(const Evaluator& ev, std::vector<double>& xs, doubl
     // Gauss-Newton step) its first step ran far along the record's flat directions (a stiffness at
     // its bound) and was refused again and again while the radius halved: 85 fine runs before the
     // first accepted step on test 14's twin (Mohr-Coulomb), 5.3 s of the fit's 6.2. From 1: 51
-    // runs in all, 1.4 s, and a lower cost (combined NRMSE 0.2549 against 0.2557).
+    // runs in all, 1.1-1.4 s, and a lower cost (combined NRMSE 0.2549 against 0.2557).
     so.initial_trust_region_radius = 1.0;
   }
   // With bounds, Ceres's trust region searches along each step (a projected line search). Its

@@ -523,6 +523,13 @@ double delta_ic(const EffectiveSize& with, int k_with, const EffectiveSize& with
   return information_criterion(with, k_with, with) - information_criterion(without, k_without, with);
 }
 
+bool effect_tried_before(double delta_ic_a, double nrmse_a, double delta_ic_b, double nrmse_b, double nrmse_now) {
+  const auto pays = [&](double ic, double e) { return ic < 0.0 && e < (1.0 - kLadderMinCut) * nrmse_now; };
+  const bool pa = pays(delta_ic_a, nrmse_a), pb = pays(delta_ic_b, nrmse_b);
+  if (pa != pb) return pa;
+  return pa ? nrmse_a < nrmse_b : delta_ic_a < delta_ic_b;
+}
+
 RecordFeatures record_features(const MeasurementFile& data, const Segmentation& seg) {
   return features_of(data, seg, row_covariates(data, seg));
 }
@@ -591,7 +598,9 @@ class DiagnosisRun {
     if (!options_.check_base_laws && !options_.use_best_base_law) return;
     d_.base_laws = fit_base_laws(data_, seg_, options_.base, options_.threads, [&](const BaseLawFit& f) {
       const std::string name = "base law " + f.law + (f.dilation.empty() ? "" : " (dilation = " + f.dilation + ")");
-      if (!f.same_as.empty()) return say(name + ": the same model as dilation = " + f.same_as + " here (critical_shear_disp is infinite)");
+      if (!f.same_as.empty())
+        return say(name + ": the same model as dilation = " + f.same_as + " here (critical_shear_disp is infinite)" +
+                   (f.failed ? ", whose fit failed" : ""));
       say(name + (f.failed ? ": failed (" + f.reason + ")" : ": " + fit_line(f.fit)));
     });
     if (!options_.use_best_base_law) return;
@@ -619,10 +628,16 @@ class DiagnosisRun {
     const std::string mode = b.settings.contains("dilation") ? b.settings["dilation"].get<std::string>() : "";
     // The best of the named law's other modes and the best other law, each judged on its own (a
     // mode of the named law first in the list must not hide a better law behind it).
+    // A row that is the named mode's model (udec_legacy sharing reversible's fit) is the named
+    // mode, not another one.
+    std::string mode_twin;
+    for (const auto& l : d_.base_laws)
+      if (l.law == d_.law && l.dilation == mode) mode_twin = l.same_as;
     const BaseLawFit* same = nullptr;
     const BaseLawFit* other = nullptr;
     for (const auto& l : d_.base_laws) {
-      if (l.failed || (l.law == d_.law && l.dilation == mode)) continue;
+      const bool named_model = l.law == d_.law && (l.dilation == mode || l.same_as == mode || (!mode_twin.empty() && l.dilation == mode_twin));
+      if (l.failed || named_model) continue;
       if (l.law == d_.law && !same) same = &l;
       if (l.law != d_.law && !other) other = &l;
     }
@@ -786,27 +801,13 @@ class DiagnosisRun {
     }
   }
 
-  // The order candidates are tried in: those that pay (a lower IC, and the combined NRMSE cut by
-  // kLadderMinCut or more) first, the lowest combined NRMSE first, since that is the error the
-  // report shows; then the others by delta IC. By delta IC alone, an effect that whitens the
-  // residual was preferred to one that cuts it far more, since each is weighted by the n_eff it
-  // leaves (test 9's twin with Continuously-Yielding: reverse_shear_degradation, 0.249 -> 0.146
-  // with n_eff 640, delta IC -715, came before dilation_recovery, 0.249 -> 0.065 with n_eff 172,
-  // -523).
-  static bool tried_before(double ic_a, double nrmse_a, double ic_b, double nrmse_b, double nrmse_now) {
-    const auto pays = [&](double ic, double e) { return ic < 0.0 && e < (1.0 - kLadderMinCut) * nrmse_now; };
-    const bool pa = pays(ic_a, nrmse_a), pb = pays(ic_b, nrmse_b);
-    if (pa != pb) return pa;
-    return pa ? nrmse_a < nrmse_b : ic_a < ic_b;
-  }
-
   void rank_effects() {
     const double now = d_.baseline.nrmse[2];
     std::stable_sort(d_.ranking.begin(), d_.ranking.end(), [now](const EffectTrial& a, const EffectTrial& b) {
       const bool ja = a.judged && !a.failed, jb = b.judged && !b.failed;
       if (ja != jb) return ja;
       if (a.fitted != b.fitted) return a.fitted;
-      return a.fitted && tried_before(a.delta_ic, a.fit.nrmse[2], b.delta_ic, b.fit.nrmse[2], now);
+      return a.fitted && effect_tried_before(a.delta_ic, a.fit.nrmse[2], b.delta_ic, b.fit.nrmse[2], now);
     });
     for (const auto& t : d_.ranking) {
       if (t.failed) {
@@ -855,7 +856,7 @@ class DiagnosisRun {
     for (const auto& t : d_.ranking)
       if (t.judged && !t.failed && t.fitted) candidates.push_back(&t);
     std::set<std::string> used;
-    for (const auto* c : candidates) {  // the first rung: the first that pays (tried_before)
+    for (const auto* c : candidates) {  // the first rung: the first that pays (effect_tried_before)
       if (!(c->delta_ic < 0.0)) break;  // those that pay come first: the rest do not pay alone either
       if (decide(1, c->effect, c->fit, c->size, d_.ladder.front())) {
         d_.ladder.push_back({{c->effect}, c->fit, c->size, c->effect});
@@ -879,7 +880,7 @@ class DiagnosisRun {
   }
 
   // Fits the current chain plus each of `next`; adds, among those that lower both the IC and the
-  // combined NRMSE (judge_rung), the one with the lowest combined NRMSE (tried_before).
+  // combined NRMSE (judge_rung), the one with the lowest combined NRMSE (effect_tried_before).
   //
   // Where the new effect goes in the chain matters when effects do not commute: rate_and_state
   // replaces the friction part of the strength it is handed, reverse_shear_degradation scales
@@ -954,7 +955,7 @@ class DiagnosisRun {
       ic[i] = delta_ic(sizes[i], fits[i].k, cur.size, cur.fit.k);
     }
     std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-      return tried_before(ic[a], fits[a].nrmse[2], ic[b], fits[b].nrmse[2], cur.fit.nrmse[2]);
+      return effect_tried_before(ic[a], fits[a].nrmse[2], ic[b], fits[b].nrmse[2], cur.fit.nrmse[2]);
     });
     const std::size_t step = d_.ladder.size();
     for (const std::size_t i : order) {

@@ -223,7 +223,7 @@ struct Diagnosis {
   std::vector<CovariateScore> covariates;  // within stages, best first
   StageOffsets stage_offsets;              // the baseline residual's stage means
   EffectiveSize baseline_size;             // the baseline's residuals
-  std::vector<EffectTrial> ranking;        // judged by IC, best first; then the ones not judged
+  std::vector<EffectTrial> ranking;        // judged: those that pay first (effect_tried_before); then the ones not judged
   std::vector<LadderStep> ladder;          // first: the baseline
   std::vector<LadderDecision> decisions;   // every effect tried for a rung, in order
   std::vector<std::string> warnings;
@@ -243,6 +243,15 @@ Diagnosis diagnose(const MeasurementFile& data, const Segmentation& seg, const D
 // refit has only moved the error by rounding (an effect that changes nothing still "lowers" the
 // IC by -0.0 and the error in its last digits; the broad blind test caught such a rung).
 inline constexpr double kLadderMinCut = 1e-3;
+
+// The order the ladder tries candidates in (and the ranking lists them): a is before b. Those that
+// pay (delta IC < 0, and the combined NRMSE below (1 - kLadderMinCut) of nrmse_now, the error
+// without them) first, the lowest combined NRMSE first, since that is the error the report shows;
+// then the others by delta IC. By delta IC alone, an effect that whitens the residual came before
+// one that cuts it far more, since each is weighted by the n_eff it leaves (test 9's twin with
+// Continuously-Yielding: reverse_shear_degradation, 0.249 -> 0.146 with n_eff 640, delta IC -715,
+// before dilation_recovery, 0.249 -> 0.065 with n_eff 172, -523). A NaN error never pays.
+bool effect_tried_before(double delta_ic_a, double nrmse_a, double delta_ic_b, double nrmse_b, double nrmse_now);
 
 // The ladder's rule for one candidate rung: `fit` (the chain with `effect` added, residuals
 // `fit_size`) against `before` (the chain without it, `before_size`) is added when it lowers both

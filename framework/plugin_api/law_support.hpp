@@ -93,16 +93,23 @@ struct StrengthChange {
     before = base > 0.0 ? ctx.strength_handed / base : 1.0;
     before_offset = base > 0.0 ? 0.0 : ctx.strength_handed - base;
     after = ctx.strength_returned > 0.0 ? ctx.strength / ctx.strength_returned : 1.0;
-    base_modified = base;
-    sigma_modified = ctx.sigma_n;
-    strength_modified = std::max(0.0, ctx.strength);
+    // (Only where the effect returned a positive strength: otherwise `after` is 1 and an effect
+    // after it may have set a strength that the formula below does not give back.)
+    if (ctx.strength_returned > 0.0) {
+      base_modified = base;
+      sigma_modified = ctx.sigma_n;
+      strength_modified = std::max(0.0, ctx.strength);
+    } else {
+      base_modified = sigma_modified = std::numeric_limits<double>::quiet_NaN();
+    }
   }
   // The effects' strength for the law's own `strength` at normal stress `sigma`.
   double operator()(double strength, double sigma) const {
     if (!strength_at) return std::max(0.0, strength * factor + offset);
-    // Asked at the stress and base strength the effects were modified at (always, where the
-    // element driver prescribes the stress): their own answer, without solving the effect's
-    // strength again (rate_and_state's friction solve, half of such a fit's time).
+    // Asked at the stress and base strength the effects were modified at (where the element
+    // driver prescribes the stress, the laws' first strength of an increment is asked there):
+    // their own answer, without solving the effect's strength again (rate_and_state's friction
+    // solve, half of such a fit's time).
     if (strength == base_modified && sigma == sigma_modified) return strength_modified;
     const double handed = std::max(0.0, strength * before + before_offset);
     return std::max(0.0, after * strength_at(args, handed, sigma));

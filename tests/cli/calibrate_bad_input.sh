@@ -92,7 +92,11 @@ expect diag_mode_warning 0 diagnose --data "$twin" --law mohr_coulomb --set dila
 # Mohr-Coulomb's best mode (reversible, 0.075), not the mode named (monotonic, 0.209), and is no
 # second finding: no doubt about another law.
 out=$("$bin" diagnose --data "$twin" --law mohr_coulomb --set dilation=monotonic --effects dilation_recovery 2>&1)
-if grep -qF "another base law fits much better" <<<"$out"; then
+code=$?
+if [ "$code" -ne 0 ] || ! grep -qF "mohr_coulomb with dilation = reversible fits this record much better" <<<"$out"; then
+  echo "FAIL diag_mode_no_doubt: exit $code, or no warning about the dilation mode: $out"
+  fail=1
+elif grep -qF "another base law fits much better" <<<"$out"; then
   echo "FAIL diag_mode_no_doubt: another law is put in doubt where only the dilation mode is wrong: $out"
   fail=1
 else

@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <cstdio>
 #include <random>
 
@@ -565,15 +566,20 @@ TEST(Diagnosis, CleanRecordsOfEachBaseLawGetNoEffect) {
   }
 }
 
-// udec_legacy stops giving dilation back once the critical shear displacement has been reached:
-// with one given to the named law, its udec_legacy is another model and is fitted (its value
-// is not carried to the other laws, whose udec_legacy stays reversible's model).
-TEST(Diagnosis, BaseLawCheckFitsUdecLegacyWhereTheCriticalShearDisplacementIsGiven) {
+// A two-sided noisy record of Mohr-Coulomb with reversible dilation (the base-law check's tests).
+MeasurementFile reversible_mohr_coulomb_record() {
   auto model = make_joint_model("mohr_coulomb",
                                 RawValues{{"kn", q("40 GPa/m")}, {"ks", q("12 GPa/m")}, {"friction", q("36 deg")},
                                           {"dilation_angle", q("5 deg")}, {"dilation", q("reversible")}},
                                 {}, "test");
-  const MeasurementFile f = testutil::noisy_two_stage_record(*model, 2.5e-5, 4, false, 5);
+  return testutil::noisy_two_stage_record(*model, 2.5e-5, 4, false, 5);
+}
+
+// udec_legacy stops giving dilation back once the critical shear displacement has been reached:
+// with one given to the named law, its udec_legacy is another model and is fitted (its value
+// is not carried to the other laws, whose udec_legacy stays reversible's model).
+TEST(Diagnosis, BaseLawCheckFitsUdecLegacyWhereTheCriticalShearDisplacementIsGiven) {
+  const MeasurementFile f = reversible_mohr_coulomb_record();
   const Segmentation seg = segment(f);
   CalibrationOptions base;
   base.law = "mohr_coulomb";
@@ -596,4 +602,49 @@ TEST(Diagnosis, BaseLawCheckFitsUdecLegacyWhereTheCriticalShearDisplacementIsGiv
   ASSERT_NE(mc("reversible"), fits.end());
   EXPECT_NE(mc("udec_legacy")->fit.rss, mc("reversible")->fit.rss);
   EXPECT_GT(mc("udec_legacy")->fit.evaluations, 0);
+}
+
+// The ladder's order: of the candidates that pay, the lowest combined NRMSE first, whatever their
+// delta IC (each is weighted by the n_eff it leaves); then the others by delta IC; NaN never pays.
+TEST(Diagnosis, CandidatesThatPayAreTriedLowestErrorFirst) {
+  const double now = 0.249;
+  // Test 9's twin with Continuously-Yielding: reverse_shear_degradation (-715, 0.146) and
+  // dilation_recovery (-523, 0.065): dilation_recovery first.
+  EXPECT_TRUE(effect_tried_before(-523.0, 0.065, -715.0, 0.146, now));
+  EXPECT_FALSE(effect_tried_before(-715.0, 0.146, -523.0, 0.065, now));
+  // One that pays before one that does not (a higher IC, or an error cut by less than 0.1 %).
+  EXPECT_TRUE(effect_tried_before(-1.0, 0.24, -900.0, 0.2489, now));
+  EXPECT_TRUE(effect_tried_before(-1.0, 0.24, +5.0, 0.01, now));
+  // Neither pays: by delta IC.
+  EXPECT_TRUE(effect_tried_before(+3.0, 0.30, +9.0, 0.20, now));
+  EXPECT_FALSE(effect_tried_before(+9.0, 0.20, +3.0, 0.30, now));
+  // NaN error: never pays; irreflexive.
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_TRUE(effect_tried_before(-1.0, 0.2, -50.0, nan, now));
+  EXPECT_FALSE(effect_tried_before(-1.0, 0.2, -1.0, 0.2, now));
+}
+
+// With reversible named and no critical shear displacement, the udec_legacy row is the named
+// mode's own model: it is neither "another dilation mode that fits better" nor the named law's best
+// mode that another law is measured against. On a Mohr-Coulomb record nothing fits much better;
+// on a Continuously-Yielding record CY does, and the warning compares it with Mohr-Coulomb as named
+// or in a mode that is another model.
+TEST(Diagnosis, TheNamedModesSharedRowIsNotAnotherMode) {
+  auto cy = make_joint_model("continuously_yielding",
+                             RawValues{{"kn", q("40 GPa/m")}, {"ks", q("15 GPa/m")}, {"initial_friction", q("50 deg")},
+                                       {"friction", q("32 deg")}, {"roughness", q("3 mm")}, {"dilation", q("monotonic")}},
+                             {}, "test");
+  for (const MeasurementFile& f : {reversible_mohr_coulomb_record(), testutil::noisy_two_stage_record(*cy, 2.5e-5, 4, false, 21)}) {
+    const Segmentation seg = segment(f);
+    DiagnosisOptions o = options({"dilation_recovery"});
+    o.base.element.max_step = 2.5e-5;
+    o.base.fit_step = 5e-5;
+    o.base.law_values["dilation"] = q("reversible");
+    o.check_base_laws = true;
+    const Diagnosis d = diagnose(f, seg, o);
+    for (const auto& w : d.warnings) {
+      EXPECT_EQ(w.find("udec_legacy fits this record"), std::string::npos) << w;
+      EXPECT_EQ(w.find("(udec_legacy)"), std::string::npos) << w;
+    }
+  }
 }
