@@ -168,11 +168,16 @@ double fitting_step(const std::vector<ElementStage>& stages, const CalibrationOp
   return std::max({options.fit_step, options.element.max_step, travel / kMaxFitIncrements});
 }
 
-// The fit's objective at residuals r: Ceres's soft-L1 with scale c, rho(s) = 2 c^2 (sqrt(1 + s/c^2) - 1),
-// halved as Ceres halves it (plain squares where c = 0).
+// The fit's objective at residuals r: half the sum of Ceres's soft-L1 loss of scale c (the loss
+// the fit uses; plain squares where c = 0).
 double robust_cost(const std::vector<double>& r, double c) {
+  const ceres::SoftLOneLoss loss(c > 0.0 ? c : 1.0);
   double sum = 0.0;
-  for (double v : r) sum += c > 0.0 ? 2.0 * c * c * (std::sqrt(1.0 + v * v / (c * c)) - 1.0) : v * v;
+  for (double v : r) {
+    double rho[3];
+    loss.Evaluate(v * v, rho);
+    sum += c > 0.0 ? rho[0] : v * v;
+  }
   return 0.5 * sum;
 }
 
@@ -248,8 +253,8 @@ std::vector<double> runnable_start(const Evaluator& ev, std::vector<Slot>& slots
 // Levenberg-Marquardt at the coarse step to convergence, then a polish at the fine step from
 // there (a few iterations): rate-sensitive laws (continuously-yielding) shift by a few per cent
 // in their parameters between the two steps even where the NRMSE does not. Sets the status and
-// iterations; returns whether the optimum is the fine step's.
-bool run_fit(const Evaluator& ev, std::vector<double>& x, double coarse, double fine, const CalibrationOptions& options,
+// iterations.
+void run_fit(const Evaluator& ev, std::vector<double>& x, double coarse, double fine, const CalibrationOptions& options,
              CalibrationResult& res) {
   std::atomic<int> iterations{0};
   // The fine-step polish takes its Jacobian at the fitting step (calibration_detail::solve).
@@ -257,7 +262,6 @@ bool run_fit(const Evaluator& ev, std::vector<double>& x, double coarse, double 
     return calibration_detail::solve(ev, xs, step, max_iterations, options.loss_scale, iterations, coarse);
   };
   auto solve = [&](double step, int max_iterations) { return solve_from(x, step, max_iterations); };
-  bool polished = false;
   const std::size_t kk = x.size();
   if (kk > 0) {
     ceres::Solver::Summary summary;
@@ -293,8 +297,7 @@ bool run_fit(const Evaluator& ev, std::vector<double>& x, double coarse, double 
     };
     if (coarse > fine && summary.termination_type != ceres::FAILURE && (options.polish || steps_disagree())) {
       const ceres::Solver::Summary polish = solve(fine, options.polish ? std::max(3, options.max_iterations / 4) : 4);
-      polished = polish.termination_type != ceres::FAILURE;
-      if (!polished) res.warnings.push_back("the polish at the fine step failed (" + polish.message + "); the fitting step's optimum is kept");
+      if (polish.termination_type == ceres::FAILURE) res.warnings.push_back("the polish at the fine step failed (" + polish.message + "); the fitting step's optimum is kept");
     }
     switch (summary.termination_type) {
       case ceres::CONVERGENCE: res.status = "converged"; res.converged = true; break;
@@ -307,14 +310,21 @@ bool run_fit(const Evaluator& ev, std::vector<double>& x, double coarse, double 
     res.converged = true;
   }
   res.iterations = iterations.load();
-  return polished;
 }
 
+// Residuals at a point and the driver step they were computed at.
+struct StepResiduals {
+  std::vector<double> r;
+  double step = 0.0;
+};
+
 // The fitted model at the fine step and at the fitting step (each standing in for the other
-// where it cannot be evaluated): errors, n, k, RSS and BIC. Returns the residuals at the step
-// of the optimum, those the Jacobian is taken from.
-std::vector<double> evaluate_optimum(const Evaluator& ev, const std::vector<double>& x, double coarse, double fine,
-                                     bool at_fine, CalibrationResult& res) {
+// where it cannot be evaluated): errors, n, k, RSS and BIC. Returns the residuals the Jacobian
+// of the standard errors is taken from: the fitting step's, as the polish takes its Jacobian
+// there (k + 1 runs there instead of k fine ones), or the fine step's where the model does not
+// run at the fitting step.
+StepResiduals evaluate_optimum(const Evaluator& ev, const std::vector<double>& x, double coarse, double fine,
+                               CalibrationResult& res) {
   std::vector<double> r_fine, r_coarse;
   Comparison c_coarse;
   std::string why_coarse, why_fine;
@@ -365,7 +375,7 @@ std::vector<double> evaluate_optimum(const Evaluator& ev, const std::vector<doub
                   res.nrmse_fit[2], res.nrmse[2]);
     res.warnings.push_back(buf);
   }
-  return at_fine ? r_fine : r_coarse;
+  return coarse_ok ? StepResiduals{std::move(r_coarse), coarse} : StepResiduals{std::move(r_fine), fine};
 }
 
 // Every parameter's value, bounds and (free ones) standard error in SI; at-bound and
@@ -429,14 +439,11 @@ CalibrationResult calibrate(const MeasurementFile& data, const Segmentation& seg
   const double coarse = fitting_step(stages, options);
   Evaluator ev(data, seg, options, slots, free, stages);
   std::vector<double> x = runnable_start(ev, slots, free, coarse, options, res);
-  const bool polished = run_fit(ev, x, coarse, fine, options, res);
+  run_fit(ev, x, coarse, fine, options, res);
 
-  // Fine-step evaluation, coarse-step NRMSE, Jacobian and standard errors at the optimum (the
-  // residuals at the step of the optimum, fine when polished; the Jacobian at the fitting step,
-  // as the polish takes it: k + 1 runs there instead of k fine ones).
-  const bool at_fine = polished || coarse <= fine;
-  const std::vector<double> r_optimum = evaluate_optimum(ev, x, coarse, fine, at_fine, res);
-  const Eigen::VectorXd se_x = calibration_detail::unit_standard_errors(ev, x, r_optimum, at_fine ? fine : coarse, coarse, res);
+  // Fine-step evaluation, coarse-step NRMSE, Jacobian and standard errors at the optimum.
+  const StepResiduals base = evaluate_optimum(ev, x, coarse, fine, res);
+  const Eigen::VectorXd se_x = calibration_detail::unit_standard_errors(ev, x, base.r, base.step, res);
   const auto vals = collect_params(ev, slots, free, x, se_x, res);
   res.evaluations = ev.evaluations();
   res.model_description = ev.build(vals)->description();

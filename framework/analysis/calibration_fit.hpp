@@ -119,18 +119,10 @@ void set_bounds_and_starts(std::vector<Slot>& slots, const MeasurementFile& data
                            const CalibrationOptions& options, const std::map<std::string, double>& fix,
                            std::vector<std::string>& warnings);
 
-// The finite-difference Jacobian at x, whose residuals at `step` are r, taken at
-// `jacobian_step` where that is another positive step and the model runs there (from its own
-// residuals at x, one run more), else at `step`. Why: at the fine step a run costs as many as ten
-// at the fitting step, while the two steps' sensitivities differ far less than their residuals
-// (their NRMSEs differ by a few per cent where the polish runs).
-bool jacobian_at(const Evaluator& ev, const double* x, const std::vector<double>& r, double step, double jacobian_step,
-                 Eigen::MatrixXd& J);
-
 // Bounded Levenberg-Marquardt in the [0, 1] space from x (updated to the optimum) at the given
 // driver step, one residual block per compared row under the soft-L1 loss (loss_scale 0: plain
 // least squares); adds the iterations it took. The Jacobian is taken at `jacobian_step` (0: the
-// driver step; jacobian_at): the fine-step polish takes it at the fitting step, so that each of
+// driver step): the fine-step polish takes it at the fitting step, so that each of
 // its iterations costs one fine run and k + 1 runs at the fitting step instead of k + 1 fine ones.
 // Every step is still accepted on the residuals at `step`, so the polish converges to where the
 // fine step's cost is stationary along the fitting step's sensitivities. Such a polish (a
@@ -139,10 +131,10 @@ ceres::Solver::Summary solve(const Evaluator& ev, std::vector<double>& x, double
                              std::atomic<int>& iterations, double jacobian_step = 0.0);
 
 // Standard errors in the [0, 1] space from the Jacobian at the optimum x (residuals r at the
-// driver step; the Jacobian at jacobian_step as jacobian_at): Cov = (J^T J)^-1 s^2, s^2 =
+// driver step): Cov = (J^T J)^-1 s^2, s^2 =
 // RSS/(n - k) from `res`; infinite where the record does not constrain the parameter, all
 // infinite (and a warning in `res`) if the Jacobian fails.
 Eigen::VectorXd unit_standard_errors(const Evaluator& ev, const std::vector<double>& x, const std::vector<double>& r,
-                                     double step, double jacobian_step, CalibrationResult& res);
+                                     double step, CalibrationResult& res);
 
 }  // namespace rockdem::calibration_detail

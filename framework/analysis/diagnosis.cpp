@@ -452,9 +452,6 @@ std::vector<BaseLawFit> fit_base_laws(const MeasurementFile& data, const Segment
     });
     if (infinite && !touched && has_reversible) f.same_as = "reversible";
   }
-  auto twin_of = [&](const BaseLawFit& f) -> BaseLawFit& {
-    return *std::find_if(fits.begin(), fits.end(), [&](const BaseLawFit& g) { return g.law == f.law && g.dilation == f.same_as; });
-  };
   const int outer = std::max(1, std::min<int>(threads, static_cast<int>(fits.size())));
   for_each_parallel(fits.size(), outer, [&](std::size_t i) {
     BaseLawFit& f = fits[i];
@@ -473,7 +470,8 @@ std::vector<BaseLawFit> fit_base_laws(const MeasurementFile& data, const Segment
   });
   for (auto& f : fits) {
     if (f.same_as.empty()) continue;
-    const BaseLawFit& twin = twin_of(f);
+    const BaseLawFit& twin =
+        *std::find_if(fits.begin(), fits.end(), [&](const BaseLawFit& g) { return g.law == f.law && g.dilation == f.same_as; });
     f.failed = twin.failed;
     f.reason = twin.reason;
     f.fit = twin.fit;
@@ -625,31 +623,39 @@ class DiagnosisRun {
   void compare_with_base_laws() {
     if (d_.base_laws.empty() || d_.law_chosen) return;
     const auto& b = d_.baseline;
-    const std::string mode = b.settings.contains("dilation") ? b.settings["dilation"].get<std::string>() : "";
+    const std::string mode = baseline_mode();
     // The best of the named law's other modes and the best other law, each judged on its own (a
-    // mode of the named law first in the list must not hide a better law behind it).
-    // A row that is the named mode's model (udec_legacy sharing reversible's fit) is the named
-    // mode, not another one.
-    std::string mode_twin;
+    // mode of the named law first in the list must not hide a better law behind it). A row that
+    // is the named mode's model (udec_legacy sharing reversible's fit) is the named mode.
+    const auto model_of = [](const BaseLawFit& l) { return l.same_as.empty() ? l.dilation : l.same_as; };
+    std::string named_model = mode;
     for (const auto& l : d_.base_laws)
-      if (l.law == d_.law && l.dilation == mode) mode_twin = l.same_as;
+      if (l.law == d_.law && l.dilation == mode) named_model = model_of(l);
     const BaseLawFit* same = nullptr;
     const BaseLawFit* other = nullptr;
     for (const auto& l : d_.base_laws) {
-      const bool named_model = l.law == d_.law && (l.dilation == mode || l.same_as == mode || (!mode_twin.empty() && l.dilation == mode_twin));
-      if (l.failed || named_model) continue;
+      if (l.failed || (l.law == d_.law && model_of(l) == named_model)) continue;
       if (l.law == d_.law && !same) same = &l;
       if (l.law != d_.law && !other) other = &l;
     }
     const auto much_better = [](const CalibrationResult& l, const CalibrationResult& than) {
       return l.nrmse[2] <= 0.8 * than.nrmse[2] && l.bic < than.bic;
     };
-    if (same && much_better(same->fit, b)) warn_better_base_law(*same, d_.law + (mode.empty() ? "" : " with dilation = " + mode), b);
+    if (same && much_better(same->fit, b)) warn_better_base_law(*same, named_law(), b);
     const bool same_better = same && same->fit.bic < b.bic;
     const CalibrationResult& ref = same_better ? same->fit : b;
-    const std::string ref_name = d_.law + (same_better ? " in its best dilation mode (" + same->dilation + ")"
-                                                       : (mode.empty() ? "" : " with dilation = " + mode));
+    const std::string ref_name = same_better ? d_.law + " in its best dilation mode (" + same->dilation + ")" : named_law();
     if (other && much_better(other->fit, ref)) warn_better_base_law(*other, ref_name, ref);
+  }
+
+  // The baseline's dilation mode (empty for a law without one), and the law with it, as printed.
+  std::string baseline_mode() const {
+    const auto& s = d_.baseline.settings;
+    return s.contains("dilation") ? s["dilation"].get<std::string>() : "";
+  }
+  std::string named_law() const {
+    const std::string mode = baseline_mode();
+    return d_.law + (mode.empty() ? "" : " with dilation = " + mode);
   }
 
   // `named`: what `best` is compared with, `ref` its fit.
@@ -663,10 +669,8 @@ class DiagnosisRun {
       w += ": the record's dilation on reverse shearing is " + best.dilation +
            "'s; an effect that changes the dilation on reverse shearing (dilation_recovery) stands for the same finding";
     } else {
-      const auto& b = d_.baseline;
-      const std::string mode = b.settings.contains("dilation") ? b.settings["dilation"].get<std::string>() : "";
-      w += ": the effects below are judged on " + d_.law + (mode.empty() ? "" : " with dilation = " + mode) +
-           " as asked and may be credited with what " + best.law + "'s shape does; `--law best` judges them on the better shape";
+      w += ": the effects below are judged on " + named_law() + " as asked and may be credited with what " + best.law +
+           "'s shape does; `--law best` judges them on the better shape";
       d_.doubts.push_back("another base law fits much better (" + better + ")");
     }
     d_.warnings.push_back(w);

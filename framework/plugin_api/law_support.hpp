@@ -82,7 +82,8 @@ struct StrengthChange {
   double (*strength_at)(const double*, double, double) = nullptr;
   const double* args = nullptr;
   double before = 1.0, before_offset = 0.0, after = 1.0;
-  double base_modified = 0.0, sigma_modified = 0.0, strength_modified = 0.0;
+  // Where the effects were modified (NaN: no memo; see operator()).
+  double base_modified = std::numeric_limits<double>::quiet_NaN(), sigma_modified = base_modified, strength_modified = 0.0;
   // `base`: the law's own strength at effects_sigma (ctx.sigma_n); `ctx` after the effects' modify (it must
   // outlive this object).
   StrengthChange(double base, const ShearContext& ctx)
@@ -99,8 +100,6 @@ struct StrengthChange {
       base_modified = base;
       sigma_modified = ctx.sigma_n;
       strength_modified = std::max(0.0, ctx.strength);
-    } else {
-      base_modified = sigma_modified = std::numeric_limits<double>::quiet_NaN();
     }
   }
   // The effects' strength for the law's own `strength` at normal stress `sigma`.
