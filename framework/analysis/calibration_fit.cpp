@@ -3,6 +3,8 @@
 #include "framework/core/si_raw_value.hpp"
 
 #include <algorithm>
+#include <bit>
+#include <cstdint>
 #include <thread>
 
 namespace rockdem::calibration_detail {
@@ -126,10 +128,11 @@ std::unique_ptr<JointModel> Evaluator::build(const std::vector<double>& v) const
   return make_joint_model(opt_.law, law, effects, "calibration");
 }
 
-MeasurementFile Evaluator::run(const JointModel& model, double step, Misses* misses) const {
+MeasurementFile Evaluator::run(const JointModel& model, double step, Misses* misses, bool extra) const {
   ElementOptions eo = opt_.element;
   eo.max_step = step;
   eo.output_every = 1;
+  eo.extra_columns = extra;
   ElementDriver driver(model, eo);
   ++evaluations_;
   MeasurementFile rec = driver.run(stages_);
@@ -150,14 +153,20 @@ bool Evaluator::residuals(const double* x, double step, std::vector<double>& r, 
                           MeasurementFile* record, std::string* why, Misses* misses) const {
   try {
     const auto model = build(values(x));
-    MeasurementFile rec = run(*model, step, misses);
-    Comparison c = compare(data_, seg_, rec, opt_.compare);
+    MeasurementFile rec = run(*model, step, misses, record != nullptr);
+    std::shared_ptr<const Placement> known = out ? nullptr : placement(step, rec);
+    Comparison c;
+    if (!known) {
+      c = out ? compare(data_, seg_, rec, opt_.compare) : align_records(data_, seg_, rec, opt_.compare);
+      remember(step, rec, c.alignment);
+    }
+    const std::vector<AlignedRow>& placed = known ? known->rows : c.alignment.rows;
     r.clear();
     r.reserve(n());
     for (std::size_t v = 0; v < 2; ++v) {
       if (!(range_[v] > 0.0)) continue;
       for (std::size_t i = 0; i < data_.rows.size(); ++i) {
-        const double d = (c.alignment.model[v][i] - compared_value(data_.rows[i], v)) / range_[v];
+        const double d = (aligned_value(placed[i], rec, v) - compared_value(data_.rows[i], v)) / range_[v];
         r.push_back(std::isfinite(d) ? d : 10.0);
       }
     }
@@ -168,6 +177,42 @@ bool Evaluator::residuals(const double* x, double step, std::vector<double>& r, 
     if (why) *why = e.what();
     return false;
   }
+}
+
+namespace {
+bool same_path(const std::vector<MeasurementRow>& a, const std::vector<MeasurementRow>& b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const MeasurementRow &p = a[i], &q = b[i];
+    // Bitwise: a placement is reused only where align() would read the very same numbers.
+    if (p.stage != q.stage || std::bit_cast<std::uint64_t>(p.time_s) != std::bit_cast<std::uint64_t>(q.time_s) ||
+        std::bit_cast<std::uint64_t>(p.shear_disp_mm) != std::bit_cast<std::uint64_t>(q.shear_disp_mm) ||
+        std::bit_cast<std::uint64_t>(p.normal_stress_MPa) != std::bit_cast<std::uint64_t>(q.normal_stress_MPa))
+      return false;
+  }
+  return true;
+}
+}  // namespace
+
+std::shared_ptr<const Evaluator::Placement> Evaluator::placement(double step, const MeasurementFile& rec) const {
+  std::shared_ptr<const Placement> p;
+  {
+    const std::lock_guard<std::mutex> lock(placements_mutex_);
+    for (const auto& q : placements_)
+      if (q->step == step) p = q;
+  }
+  return p && same_path(p->path, rec.rows) ? p : nullptr;
+}
+
+void Evaluator::remember(double step, const MeasurementFile& rec, const Alignment& al) const {
+  auto p = std::make_shared<Placement>();
+  p->step = step;
+  p->path = rec.rows;
+  p->rows = al.rows;
+  const std::lock_guard<std::mutex> lock(placements_mutex_);
+  std::erase_if(placements_, [&](const auto& q) { return q->step == step; });
+  placements_.insert(placements_.begin(), std::move(p));
+  if (placements_.size() > 2) placements_.pop_back();  // the fitting step and the fine one
 }
 
 bool Evaluator::jacobian(const double* x, const std::vector<double>& r0, double step, Eigen::MatrixXd& J) const {

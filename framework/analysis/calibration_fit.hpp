@@ -10,6 +10,7 @@
 #include <cmath>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <numbers>
 #include <string>
 #include <utility>
@@ -93,7 +94,9 @@ class Evaluator {
   struct Misses {
     long missed = 0, increments = 0;
   };
-  MeasurementFile run(const JointModel& model, double step, Misses* misses = nullptr) const;
+  // `extra`: also the record's extra columns (dilation, dissipated energy), which residuals
+  // do not read (one allocation per row).
+  MeasurementFile run(const JointModel& model, double step, Misses* misses = nullptr, bool extra = true) const;
   // Range-normalised residuals (model - measured) of every compared row; false if the model
   // cannot be built or run, or its record cannot be compared.
   bool residuals(const double* x, double step, std::vector<double>& r, Comparison* out = nullptr,
@@ -110,6 +113,20 @@ class Evaluator {
   std::vector<ElementStage> stages_;
   std::array<double, 2> range_{};
   mutable std::atomic<long> evaluations_{0};
+  // Where align() placed the measured rows on the last record of each driver step and the path
+  // columns it read (stage, time, shear displacement, normal stress): every run at that step
+  // follows the same prescribed path unless a stage holds a stiffness instead of a stress, so the
+  // segmentation and alignment, a tenth of a fit's time, are reused while those columns are the
+  // same to the bit (the result is then the same too).
+  struct Placement {
+    double step = 0.0;
+    std::vector<MeasurementRow> path;
+    std::vector<AlignedRow> rows;
+  };
+  std::shared_ptr<const Placement> placement(double step, const MeasurementFile& rec) const;
+  void remember(double step, const MeasurementFile& rec, const Alignment& al) const;
+  mutable std::mutex placements_mutex_;
+  mutable std::vector<std::shared_ptr<const Placement>> placements_;  // one per step, newest first
 };
 
 // Bounds (the registry's tightened to physical ones), scales and starting values of every

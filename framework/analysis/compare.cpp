@@ -97,10 +97,8 @@ void interpolate(std::size_t db, std::size_t de, const MeasurementFile& model,
       const double x0 = mp(j0), x1 = mp(j1);  // x0 <= runmax[k-1] < x <= runmax[k] == x1
       t = x == x1 ? 1.0 : (x - x0) / (x1 - x0);
     }
-    for (std::size_t v = 0; v < 2; ++v) {
-      const double a = compared_value(model.rows[j0], v), b = compared_value(model.rows[j1], v);
-      out.model[v][i] = t == 1.0 ? b : a + t * (b - a);  // a sample the model has is taken as is
-    }
+    out.rows[i] = AlignedRow{j0, j1, t};
+    for (std::size_t v = 0; v < 2; ++v) out.model[v][i] = aligned_value(out.rows[i], model, v);
   }
 }
 
@@ -152,6 +150,12 @@ nlohmann::json group_json(const ErrorGroup& g, bool stage, bool cycle, bool quad
 
 double compared_value(const MeasurementRow& r, std::size_t variable) {
   return variable == 0 ? r.shear_stress_MPa : r.normal_disp_mm;
+}
+
+double aligned_value(const AlignedRow& a, const MeasurementFile& model, std::size_t v) {
+  if (a.j0 == AlignedRow::kNone) return kNaN;
+  const double lo = compared_value(model.rows[a.j0], v), hi = compared_value(model.rows[a.j1], v);
+  return a.t == 1.0 ? hi : lo + a.t * (hi - lo);  // a sample the model has is taken as is
 }
 
 SegmentationOptions model_segmentation_options(const Segmentation& data) {
@@ -235,6 +239,7 @@ Alignment align(const MeasurementFile& data, const Segmentation& ds, const Measu
                 const Segmentation& ms, const CompareOptions& options) {
   Alignment out;
   for (auto& v : out.model) v.assign(data.rows.size(), kNaN);
+  out.rows.assign(data.rows.size(), AlignedRow{});
   std::vector<double> runmax;
   std::vector<std::size_t> dturns, mturns;
   for (std::size_t si = 0; si < ds.stages.size(); ++si) {
@@ -363,8 +368,8 @@ void summarize(const MeasurementFile& data, const Segmentation& dseg, const Alig
     out.worst.push_back(worst_line(out.segments[cands[i].group], cands[i].var, out.range[cands[i].var]));
 }
 
-Comparison compare(const MeasurementFile& data, const Segmentation& dseg, const MeasurementFile& model,
-                   const CompareOptions& options) {
+Comparison align_records(const MeasurementFile& data, const Segmentation& dseg, const MeasurementFile& model,
+                         const CompareOptions& options) {
   if (data.rows.empty()) throw InputError("the measurement has no data rows");
   if (model.rows.empty()) throw InputError("the model has no data rows");
   Comparison c;
@@ -400,6 +405,12 @@ Comparison compare(const MeasurementFile& data, const Segmentation& dseg, const 
     if (!agreed) throw InputError(why);
   }
   c.alignment = align(data, c.data_segments, model, c.model_segments, options);
+  return c;
+}
+
+Comparison compare(const MeasurementFile& data, const Segmentation& dseg, const MeasurementFile& model,
+                   const CompareOptions& options) {
+  Comparison c = align_records(data, dseg, model, options);
   summarize(data, c.data_segments, c.alignment, options, c);
   return c;
 }

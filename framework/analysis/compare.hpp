@@ -64,9 +64,24 @@ struct ErrorGroup {
   std::array<ErrorStats, 2> var{};
 };
 
+// Where a measured row sits on the model record: between model rows j0 and j1 at the fraction t
+// (t = 1: row j1's sample as it is); j0 = kNone where no segment covers the row (NaN).
+struct AlignedRow {
+  static constexpr std::size_t kNone = static_cast<std::size_t>(-1);
+  std::size_t j0 = kNone, j1 = kNone;
+  double t = 0.0;
+};
+
+// The model's compared variable v (0 shear stress, 1 normal displacement) at a placed row.
+double aligned_value(const AlignedRow& a, const MeasurementFile& model, std::size_t v);
+
 // The model's values interpolated at every measured row.
 struct Alignment {
   std::array<std::vector<double>, 2> model;
+  // Where each measured row was placed. It depends on the model record's stages, shear
+  // displacement, normal stress and time only (what segment() and align() read besides the
+  // compared values), so a model run along the same path can reuse it (calibration does).
+  std::vector<AlignedRow> rows;
   // Measured rows beyond the ends of the model's matching segment (the model's end value is
   // used); within the end-point tolerance these are expected, a large count is worth a look.
   std::size_t outside = 0;
@@ -100,6 +115,11 @@ Alignment align(const MeasurementFile& data, const Segmentation& data_segments, 
 // result but the two segmentations and the alignment).
 void summarize(const MeasurementFile& data, const Segmentation& data_segments, const Alignment& alignment,
                const CompareOptions& options, Comparison& out);
+
+// The segmentations (thresholds raised where only the reversals differ, as notes say) and the
+// alignment, without the error groups: compare() less summarize(). Throws as compare() does.
+Comparison align_records(const MeasurementFile& data, const Segmentation& data_segments, const MeasurementFile& model,
+                         const CompareOptions& options = {});
 
 // All of the above. The overload with a precomputed data segmentation serves repeated
 // comparisons against one measurement (calibration).

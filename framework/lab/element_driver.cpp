@@ -462,11 +462,11 @@ void ElementDriver::frame_step(const ElementStage& stage, double du_load, double
 
 void ElementDriver::append_row(MeasurementFile& out, int stage) const {
   out.rows.push_back({time_, stage, r_.sigma_n / 1e6, r_.u_s * 1e3, r_.tau / 1e6, (u_n_ - u_n_stage_) * 1e3});
-  out.extra.push_back({r_.dilation * 1e3, dissipated_});
+  if (opt_.extra_columns) out.extra.push_back({r_.dilation * 1e3, dissipated_});
 }
 
 void ElementDriver::run(const std::vector<ElementStage>& stages, MeasurementFile& out, int first_stage_number) {
-  if (out.extra_columns.empty()) out.extra_columns = {"dilation_mm", "dissipated_J_per_m2"};
+  if (opt_.extra_columns && out.extra_columns.empty()) out.extra_columns = {"dilation_mm", "dissipated_J_per_m2"};
   long total = 0;
   double increments = 0.0;
   for (const auto& st : stages) {
@@ -476,7 +476,7 @@ void ElementDriver::run(const std::vector<ElementStage>& stages, MeasurementFile
   }
   if (increments > kMaxIncrements) throw too_many_increments(increments, opt_.max_step);
   out.rows.reserve(out.rows.size() + static_cast<std::size_t>(total));
-  out.extra.reserve(out.extra.size() + static_cast<std::size_t>(total));
+  if (opt_.extra_columns) out.extra.reserve(out.extra.size() + static_cast<std::size_t>(total));
   int number = first_stage_number;
   for (const auto& st : stages) {
     if (st.model && std::string(st.model->law().name()) != model_.law().name()) {

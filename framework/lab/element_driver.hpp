@@ -61,6 +61,7 @@ struct ElementOptions {
   int max_iterations = 60;    // per increment, for the normal solve
   double frame_stiffness = 0.0;  // loading frame spring per unit joint area [Pa/m]; 0 = rigid (off)
   double frame_mass = 0.0;       // top-block mass per unit joint area [kg/m^2]; needed with a frame
+  bool extra_columns = true;     // record dilation_mm and dissipated_J_per_m2 (a fit's runs read neither)
 };
 
 class ElementDriver {
