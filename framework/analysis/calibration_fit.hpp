@@ -113,18 +113,20 @@ class Evaluator {
   std::vector<ElementStage> stages_;
   std::array<double, 2> range_{};
   mutable std::atomic<long> evaluations_{0};
-  // Where align() placed the measured rows on the last record of each driver step and the path
-  // columns it read (stage, time, shear displacement, normal stress): every run at that step
-  // follows the same prescribed path unless a stage holds a stiffness instead of a stress, so the
-  // segmentation and alignment, a tenth of a fit's time, are reused while those columns are the
-  // same to the bit (the result is then the same too).
+  // Where align() placed the measured rows on the last record of each driver step, and the path
+  // columns that placing read (stage, time, shear displacement): every run at one step follows
+  // the same prescribed path, so the segmentation and alignment, a tenth of a fit's time, are
+  // reused while those columns are the same to the bit (the alignment is then the same too). The
+  // normal stress, which the segmentation also reads but only to check each stage's median
+  // against the measurement's, is checked again on every run.
   struct Placement {
     double step = 0.0;
     std::vector<MeasurementRow> path;
+    std::vector<StageInfo> stages;  // the model record's
     std::vector<AlignedRow> rows;
   };
   std::shared_ptr<const Placement> placement(double step, const MeasurementFile& rec) const;
-  void remember(double step, const MeasurementFile& rec, const Alignment& al) const;
+  void remember(double step, const MeasurementFile& rec, const Comparison& c) const;
   mutable std::mutex placements_mutex_;
   mutable std::vector<std::shared_ptr<const Placement>> placements_;  // one per step, newest first
 };

@@ -184,11 +184,7 @@ std::string stage_mismatch(const Segmentation& data, const Segmentation& model, 
   const StageInfo& d = data.stages[i];
   const StageInfo& m = model.stages[i];
   const std::string st = "stage " + std::to_string(d.stage) + ": ";
-  const double sn_tol = options.normal_stress_tolerance * std::abs(d.normal_stress_MPa) + 0.01;
-  if (std::abs(d.normal_stress_MPa - m.normal_stress_MPa) > sn_tol) {
-    return st + "different normal stress: the measurement " + fmt("%.4g", d.normal_stress_MPa) + " MPa, the model " +
-           fmt("%.4g", m.normal_stress_MPa) + " MPa (medians; allowed difference " + fmt("%.2g", sn_tol) + " MPa)";
-  }
+  if (std::string why = normal_stress_mismatch(d, m.normal_stress_MPa, options); !why.empty()) return why;
   if (d.first_side != m.first_side) {
     return st + "opposite first strokes: the measurement first shears toward the " + side_word(d.first_side) +
            " side, the model toward the " + side_word(m.first_side) + " side";
@@ -225,6 +221,14 @@ std::string stage_mismatch(const Segmentation& data, const Segmentation& model, 
 }
 
 }  // namespace
+
+std::string normal_stress_mismatch(const StageInfo& d, double model_MPa, const CompareOptions& options) {
+  const double sn_tol = options.normal_stress_tolerance * std::abs(d.normal_stress_MPa) + 0.01;
+  if (!(std::abs(d.normal_stress_MPa - model_MPa) > sn_tol)) return {};
+  return "stage " + std::to_string(d.stage) + ": different normal stress: the measurement " +
+         fmt("%.4g", d.normal_stress_MPa) + " MPa, the model " + fmt("%.4g", model_MPa) +
+         " MPa (medians; allowed difference " + fmt("%.2g", sn_tol) + " MPa)";
+}
 
 void check_compatible(const Segmentation& data, const Segmentation& model, const CompareOptions& options) {
   check_stage_lists(data, model);

@@ -107,6 +107,10 @@ SegmentationOptions model_segmentation_options(const Segmentation& data);
 // tries coarser reversal thresholds where only the reversals differ (Comparison::notes says so).
 void check_compatible(const Segmentation& data, const Segmentation& model, const CompareOptions& options = {});
 
+// compare()'s check of a stage's normal stress: the model's (StageInfo::normal_stress_MPa) against
+// the measurement's, within options.normal_stress_tolerance; the reason if they differ, else "".
+std::string normal_stress_mismatch(const StageInfo& data, double model_MPa, const CompareOptions& options = {});
+
 // Interpolates the model at every measured row; the segmentations must be compatible.
 Alignment align(const MeasurementFile& data, const Segmentation& data_segments, const MeasurementFile& model,
                 const Segmentation& model_segments, const CompareOptions& options = {});

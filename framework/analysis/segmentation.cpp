@@ -81,12 +81,18 @@ void find_reversals(const MeasurementFile& f, std::size_t b, std::size_t e, doub
   }
 }
 
+double stage_normal_stress(const MeasurementFile& f, std::size_t begin, std::size_t end) {
+  std::vector<double> sigma;
+  sigma.reserve(end - begin);
+  for (std::size_t i = begin; i < end; ++i) sigma.push_back(f.rows[i].normal_stress_MPa);
+  return median(sigma);
+}
+
 Segmentation segment(const MeasurementFile& f, const SegmentationOptions& options) {
   Segmentation out;
   const auto& rows = f.rows;
   out.labels.resize(rows.size());
   std::vector<std::size_t> turns;
-  std::vector<double> sigma;
   auto u = [&](std::size_t i) { return rows[i].shear_disp_mm; };
 
   std::size_t b = 0;
@@ -100,13 +106,11 @@ Segmentation segment(const MeasurementFile& f, const SegmentationOptions& option
     st.begin = b;
     st.end = e;
     st.u_min = st.u_max = u(b);
-    sigma.clear();
     for (std::size_t i = b; i < e; ++i) {
       st.u_min = std::min(st.u_min, u(i));
       st.u_max = std::max(st.u_max, u(i));
-      sigma.push_back(rows[i].normal_stress_MPa);
     }
-    st.normal_stress_MPa = median(sigma);
+    st.normal_stress_MPa = stage_normal_stress(f, b, e);
     const auto given = options.threshold_mm.find(stage_no);
     const double h = given != options.threshold_mm.end() ? given->second
                                                          : options.reversal_fraction * (st.u_max - st.u_min);

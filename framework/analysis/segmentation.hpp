@@ -68,6 +68,10 @@ struct Segmentation {
   const StageInfo* find_stage(int stage) const;
 };
 
+// A stage's normal stress as segment() gives it (StageInfo::normal_stress_MPa): the median of
+// rows [begin, end).
+double stage_normal_stress(const MeasurementFile& f, std::size_t begin, std::size_t end);
+
 // Segments `f`. Never throws on a well-formed file (read_measurement_csv's rules).
 Segmentation segment(const MeasurementFile& f, const SegmentationOptions& options = {});
 
