@@ -79,6 +79,15 @@ struct JointResponse {
   // concerns laws that do not read the prescribed stress. Set afresh by every update: not
   // checkpointed or packed.
   bool consistent = true;
+
+  // Back to the values above. Laws call it at the start of every update: `r = JointResponse{}`
+  // makes GCC 12 build the defaults on the stack and read the three flags back as one word across
+  // their byte stores, a store-forwarding stall that was a quarter of Mohr-Coulomb's update;
+  // copying a constant has none.
+  void reset() {
+    static constexpr JointResponse kDefaults{};
+    *this = kDefaults;
+  }
 };
 
 // What a base law exposes to effects at the point where it evaluates its shear strength and
@@ -101,7 +110,9 @@ struct ShearContext {
   // strength_handed / the law's own strength, those after it as strength / strength_returned,
   // both at the trial stress. Null: every effect's change is a factor (or an offset).
   double (*strength_at)(const double* args, double handed, double sigma) = nullptr;
-  std::array<double, 8> strength_args{};
+  // Not zeroed: read only through strength_at, by the effect that wrote them (zeroing them on
+  // every update was a `rep stos`, a tenth of Mohr-Coulomb's update).
+  std::array<double, 8> strength_args;
   double strength_handed = 0.0, strength_returned = 0.0;
   double dilation_rate = 0.0;    // d(dilation)/d|du_s^p| with its sign; effects may change it
   // The law derives its dilation from the shear stress it carries (Continuously-Yielding, eq.
@@ -156,7 +167,9 @@ class EffectChain {
   // The effect that defines the normal response, or null (the law's own relation applies).
   const EffectBase* normal() const { return normal_; }
   void modify(ShearContext& ctx) {
-    last_ = ctx;
+    // Kept for after(), which does nothing without effects: no copy then (the context, 232
+    // bytes, was copied twice per update, once right after the law wrote it: a load stalled on
+    // those stores, a tenth of Mohr-Coulomb's update).
     if (!effects_) return;
     for (std::size_t i = 0; i < effects_->size(); ++i) (*effects_)[i]->modify(block_ + (*offsets_)[i], ctx);
     last_ = ctx;

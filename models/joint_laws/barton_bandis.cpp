@@ -185,7 +185,7 @@ void BartonBandis::update(const Params& p, const Derived& d, State& s, const Joi
   const double u_s_before = s.u_s;
   s.u_s += k.du_s;
   s.u_n += k.du_n;
-  r = JointResponse{};
+  r.reset();
   r.ks = p.ks;
   // The closure of the contact decreases with opening and increases with dilation under
   // constrained normal displacement; a negative closure is an open gap (no stresses, no tension).

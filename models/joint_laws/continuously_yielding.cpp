@@ -119,7 +119,7 @@ void ContinuouslyYielding::update(const Params& p, State& s, const JointKinemati
   const double u_s_before = s.u_s;
   s.u_s += k.du_s;
   s.u_n += k.du_n;
-  r = JointResponse{};
+  r.reset();
   // Normal stiffness of this increment from the normal stress at its start (explicit, as UDEC).
   const law_support::NormalRelation nr{chain.normal(), normal_stiffness(p, s.sigma_n)};
   r.kn = nr.tangent(s.gap > 0.0 ? 0.0 : s.sigma_n);

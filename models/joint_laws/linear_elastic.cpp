@@ -44,7 +44,7 @@ void LinearElastic::update(const Params& p, State& s, const JointKinematics& k, 
   ctx.shear_stiffness = p.ks;
   ctx.toward_origin = ctx.u_s * k.du_s < 0.0;
   chain.modify(ctx);
-  r = JointResponse{};
+  r.reset();
   r.kn = p.kn;
   r.ks = p.ks;
   law_support::report(s, r);

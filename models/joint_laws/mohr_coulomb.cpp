@@ -63,7 +63,7 @@ void MohrCoulomb::update(const Params& p, const Derived& d, State& s, const Join
   const double u_s_before = s.u_s;
   s.u_s += k.du_s;
   s.u_n += k.du_n;
-  r = JointResponse{};
+  r.reset();
   const law_support::NormalRelation nr{chain.normal(), p.kn};
   r.kn = nr.tangent(s.gap > 0.0 ? 0.0 : s.sigma_n);
   r.ks = p.ks;
