@@ -311,3 +311,49 @@ TEST(Compare, ReversalSeenInOneRecordOnlyRaisesTheThreshold) {
   // Only rows near the back-step differ; the rest of the stroke and the return align exactly.
   EXPECT_LT(c.overall.var[1].rmse, 0.01);
 }
+
+TEST(Compare, APlacementServesAnotherModelRecordAlongTheSamePath) {
+  // Calibration keeps where align() put the measured rows (Alignment::rows) and reads a later
+  // run's values there: for a record along the same path with other stresses and dilation, that
+  // must be what aligning it afresh gives, to the bit.
+  const MeasurementFile d = make(path(), false, 0.0, 300, 1.0, 3);
+  const MeasurementFile m1 = make(path(), true, 0.37, 0, 0.5);
+  MeasurementFile m2 = m1;
+  for (std::size_t j = 0; j < m2.rows.size(); ++j) {
+    m2.rows[j].shear_stress_MPa = 1.3 * m2.rows[j].shear_stress_MPa + 0.01 * std::sin(0.1 * static_cast<double>(j));
+    m2.rows[j].normal_disp_mm *= 0.7;
+  }
+  const Segmentation ds = segment(d);
+  const Comparison first = align_records(d, ds, m1);
+  const Comparison fresh = align_records(d, ds, m2);
+  ASSERT_EQ(first.alignment.rows.size(), d.rows.size());
+  for (std::size_t v = 0; v < 2; ++v)
+    for (std::size_t i = 0; i < d.rows.size(); ++i) {
+      const double reused = aligned_value(first.alignment.rows[i], m2, v);
+      ASSERT_TRUE(reused == fresh.alignment.model[v][i] ||
+                  (std::isnan(reused) && std::isnan(fresh.alignment.model[v][i])))
+          << "row " << i << " variable " << v;
+    }
+  // align_records is compare without the error groups: the same alignment.
+  const Comparison full = compare(d, ds, m2);
+  EXPECT_EQ(full.alignment.model[0], fresh.alignment.model[0]);
+  EXPECT_TRUE(fresh.stages.empty());
+  EXPECT_FALSE(full.stages.empty());
+}
+
+TEST(Compare, TheNormalStressRuleIsTheOneCompareRefusesBy) {
+  // Calibration checks a reused placement's normal stress with normal_stress_mismatch: the same
+  // rule and words as compare's refusal (4 MPa measured; 1 % + 0.01 MPa allowed by default).
+  const MeasurementFile d = make(path(40.0, 4.0), false, 0.0, 100, 1.0);
+  const StageInfo& st = segment(d).stages[1];
+  EXPECT_EQ(normal_stress_mismatch(st, 4.04), "");
+  const std::string why = normal_stress_mismatch(st, 5.0);
+  EXPECT_NE(why.find("stage 2: different normal stress"), std::string::npos) << why;
+  const MeasurementFile m = make(path(40.0, 5.0), true, 0.5, 0, 1.0);
+  try {
+    compare(d, m);
+    ADD_FAILURE() << "compare accepted 5 MPa against 4 MPa";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), why);
+  }
+}
