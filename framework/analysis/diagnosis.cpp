@@ -910,11 +910,17 @@ class DiagnosisRun {
       // in the chain (reverse_shear_degradation's weight at its bound of 10 where
       // dilation_recovery was missing; on top of it, from there, the fit stalled at 45 times the
       // noise; seeds 5, 31 and 34 of the broad blind test).
+      // The values it took alone are a start only where they paid alone (effect_tried_before's
+      // rule against the baseline): otherwise they are what a fit made of a record that showed
+      // it nothing, and the defaults are the one start (test 9's twin with Continuously-Yielding:
+      // two_order_roughness's two rung fits from there cost 4 of 15.6 s and were not kept).
+      const bool paid_alone = next[i]->delta_ic < 0.0 && next[i]->fit.nrmse[2] < (1.0 - kLadderMinCut) * d_.baseline.nrmse[2];
       auto fit_chain = [&](const std::vector<std::string>& chain) -> std::optional<CalibrationResult> {
         const CalibrationOptions cold = options_for(chain, added, cur.fit, threads);
         CalibrationOptions warm = cold;
-        for (const auto& p : next[i]->fit.params)
-          if (p.owner == added) warm.start[p.name] = p.value;
+        if (paid_alone)
+          for (const auto& p : next[i]->fit.params)
+            if (p.owner == added) warm.start[p.name] = p.value;
         std::string warm_error, cold_error;  // a candidate neither start can fit is left out
         // (the cold start is skipped where it is the warm one: nothing to fit, or the defaults kept)
         return fit_from_two_starts(warm, warm.start != cold.start ? &cold : nullptr, warm_error, cold_error);
