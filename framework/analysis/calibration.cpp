@@ -324,13 +324,14 @@ struct StepResiduals {
 // there (k + 1 runs there instead of k fine ones), or the fine step's where the model does not
 // run at the fitting step.
 StepResiduals evaluate_optimum(const Evaluator& ev, const std::vector<double>& x, double coarse, double fine,
-                               CalibrationResult& res) {
+                               bool keep_model, CalibrationResult& res) {
   std::vector<double> r_fine, r_coarse;
   Comparison c_coarse;
   std::string why_coarse, why_fine;
-  const bool coarse_ok = ev.residuals(x.data(), coarse, r_coarse, &c_coarse, &res.model, &why_coarse);
+  MeasurementFile* record = keep_model ? &res.model : nullptr;
+  const bool coarse_ok = ev.residuals(x.data(), coarse, r_coarse, &c_coarse, record, &why_coarse);
   Evaluator::Misses misses;
-  const bool fine_ok = ev.residuals(x.data(), fine, r_fine, &res.comparison, &res.model, &why_fine, &misses);
+  const bool fine_ok = ev.residuals(x.data(), fine, r_fine, &res.comparison, record, &why_fine, &misses);
   if (fine_ok) {
     res.increments = misses.increments;
     res.missed_increments = misses.missed;
@@ -361,6 +362,7 @@ StepResiduals evaluate_optimum(const Evaluator& ev, const std::vector<double>& x
     r_fine = r_coarse;
     res.comparison = c_coarse;
   }
+  if (!keep_model) res.comparison.model_segments.labels = {};
   const std::size_t kk = x.size();
   res.nrmse = nrmse_of(res.comparison);
   res.nrmse_fit = nrmse_of(c_coarse);
@@ -442,7 +444,7 @@ CalibrationResult calibrate(const MeasurementFile& data, const Segmentation& seg
   run_fit(ev, x, coarse, fine, options, res);
 
   // Fine-step evaluation, coarse-step NRMSE, Jacobian and standard errors at the optimum.
-  const StepResiduals base = evaluate_optimum(ev, x, coarse, fine, res);
+  const StepResiduals base = evaluate_optimum(ev, x, coarse, fine, options.keep_model, res);
   const Eigen::VectorXd se_x = calibration_detail::unit_standard_errors(ev, x, base.r, base.step, res);
   const auto vals = collect_params(ev, slots, free, x, se_x, res);
   res.evaluations = ev.evaluations();

@@ -62,6 +62,10 @@ struct CalibrationOptions {
   int threads = 2;                  // finite-difference columns evaluated in parallel
   int starts = 1;                   // 2: also start from the middle of the box (in parallel where threads > 1); best kept
   double fd_step = 2e-3;            // forward-difference step in the [0, 1] parameter space
+  // Keep the fitted model's record (CalibrationResult::model) and its row labels
+  // (comparison.model_segments.labels). Diagnose, which fits a score of models and reads
+  // neither, keeps none: some 40 MB a fit on a 40-cycle record at the fine step.
+  bool keep_model = true;
   CompareOptions compare;
 };
 

@@ -550,7 +550,9 @@ namespace {
 class DiagnosisRun {
  public:
   DiagnosisRun(const MeasurementFile& data, const Segmentation& seg, DiagnosisOptions options)
-      : data_(data), seg_(seg), options_(std::move(options)) {}
+      : data_(data), seg_(seg), options_(std::move(options)) {
+    options_.base.keep_model = false;  // read by no step of the diagnosis (its report writes alignments)
+  }
 
   Diagnosis run() {
     check_record_length();
