@@ -125,13 +125,13 @@ assert size["normal_disp"]["r1"] > 0.9, size
 assert "n_eff" in d["rung_rule"]
 PY
 
-# A rung candidate that ends above the chain below it is fitted again from the record's estimates:
+# A rung candidate that ends far above the chain below it is fitted again from the record's estimates:
 # on test 14's twin (the case's Mohr-Coulomb), dilation_recovery + directional_wear ended at 0.51
 # from dilation_recovery's values (against 0.164 without directional_wear), 0.162 from there.
 expect diag_above_below 0 diagnose --data "$src/cases/direct_shear/twins/test14.csv" --law mohr_coulomb \
   --case "$src/cases/direct_shear/test14_mohr_coulomb.toml" --no-base-law-check \
   --effects dilation_recovery,directional_wear --json "$tmp/above.json" -- \
-  "mohr_coulomb + dilation_recovery" "(above the chain below) from the record's estimates, all free"
+  "mohr_coulomb + dilation_recovery" "(far above the chain below) from the record's estimates, all free"
 /usr/bin/python3 - "$tmp/above.json" <<'PY' || { echo "FAIL diag_above_below: the rung-2 candidate"; fail=1; }
 import json, sys
 d = json.load(open(sys.argv[1]))
