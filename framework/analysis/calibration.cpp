@@ -362,7 +362,7 @@ StepResiduals evaluate_optimum(const Evaluator& ev, const std::vector<double>& x
     r_fine = r_coarse;
     res.comparison = c_coarse;
   }
-  if (!keep_model) res.comparison.model_segments.labels = {};
+  if (!keep_model) std::vector<RowLabel>().swap(res.comparison.model_segments.labels);  // frees (= {} keeps the capacity)
   const std::size_t kk = x.size();
   res.nrmse = nrmse_of(res.comparison);
   res.nrmse_fit = nrmse_of(c_coarse);

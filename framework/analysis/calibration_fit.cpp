@@ -155,7 +155,9 @@ bool Evaluator::residuals(const double* x, double step, std::vector<double>& r, 
   try {
     const auto model = build(values(x));
     MeasurementFile rec = run(*model, step, misses, record != nullptr);
-    std::shared_ptr<const Placement> known = out ? nullptr : placement(step, rec);
+    const bool placing = !out && placing_pays();
+    std::shared_ptr<const Placement> known = placing ? placement(step, rec) : nullptr;
+    if (placing) ++(known ? placement_hits_ : placement_misses_);
     Comparison c;
     if (known) {
       for (std::size_t i = 0; i < known->stages.size(); ++i) {
@@ -175,7 +177,7 @@ bool Evaluator::residuals(const double* x, double step, std::vector<double>& r, 
       }
     } else {
       c = out ? compare(data_, seg_, rec, opt_.compare) : align_records(data_, seg_, rec, opt_.compare);
-      remember(step, rec, c);
+      if (placing_pays()) remember(step, rec, c);
     }
     const std::vector<AlignedRow>& placed = known ? known->rows : c.alignment.rows;
     r.clear();
@@ -197,17 +199,7 @@ bool Evaluator::residuals(const double* x, double step, std::vector<double>& r, 
 }
 
 namespace {
-bool same_path(const std::vector<MeasurementRow>& a, const std::vector<MeasurementRow>& b) {
-  if (a.size() != b.size()) return false;
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    const MeasurementRow &p = a[i], &q = b[i];
-    // Bitwise: a placement is reused only where align() would read the very same numbers.
-    if (p.stage != q.stage || std::bit_cast<std::uint64_t>(p.time_s) != std::bit_cast<std::uint64_t>(q.time_s) ||
-        std::bit_cast<std::uint64_t>(p.shear_disp_mm) != std::bit_cast<std::uint64_t>(q.shear_disp_mm))
-      return false;
-  }
-  return true;
-}
+bool same_bits(double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
 }  // namespace
 
 std::shared_ptr<const Evaluator::Placement> Evaluator::placement(double step, const MeasurementFile& rec) const {
@@ -217,13 +209,24 @@ std::shared_ptr<const Evaluator::Placement> Evaluator::placement(double step, co
     for (const auto& q : placements_)
       if (q->step == step) p = q;
   }
-  return p && same_path(p->path, rec.rows) ? p : nullptr;
+  if (!p || p->stage.size() != rec.rows.size()) return nullptr;
+  // Bitwise: a placement is reused only where align() would read the very same numbers.
+  for (std::size_t i = 0; i < rec.rows.size(); ++i) {
+    const MeasurementRow& q = rec.rows[i];
+    if (p->stage[i] != q.stage || !same_bits(p->shear[i], q.shear_disp_mm) || !same_bits(p->time[i], q.time_s))
+      return nullptr;
+  }
+  return p;
 }
 
 void Evaluator::remember(double step, const MeasurementFile& rec, const Comparison& c) const {
   auto p = std::make_shared<Placement>();
   p->step = step;
-  p->path = rec.rows;
+  for (const MeasurementRow& q : rec.rows) {
+    p->stage.push_back(q.stage);
+    p->time.push_back(q.time_s);
+    p->shear.push_back(q.shear_disp_mm);
+  }
   p->stages = c.model_segments.stages;
   p->rows = c.alignment.rows;
   const std::lock_guard<std::mutex> lock(placements_mutex_);

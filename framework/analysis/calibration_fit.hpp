@@ -59,6 +59,7 @@ class Evaluator {
   const std::vector<Slot>& slots() const { return slots_; }
   const std::vector<std::size_t>& free() const { return free_; }
   long evaluations() const { return evaluations_.load(); }
+  long placement_hits() const { return placement_hits_.load(); }  // runs that reused a placement (below)
 
   double to_si(std::size_t j, double x) const {
     const Slot& s = slots_[free_[j]];
@@ -119,16 +120,21 @@ class Evaluator {
   // reused while those columns are the same to the bit (the alignment is then the same too). The
   // normal stress, which the segmentation also reads but only to check each stage's median
   // against the measurement's, is checked again on every run.
+  // Where the path itself follows the parameters (a loading frame's compliance), no run matches
+  // another: after a few misses without a hit nothing is kept or looked up any more.
   struct Placement {
     double step = 0.0;
-    std::vector<MeasurementRow> path;
-    std::vector<StageInfo> stages;  // the model record's
+    std::vector<int> stage;
+    std::vector<double> time, shear;  // the path columns, as read
+    std::vector<StageInfo> stages;    // the model record's
     std::vector<AlignedRow> rows;
   };
   std::shared_ptr<const Placement> placement(double step, const MeasurementFile& rec) const;
   void remember(double step, const MeasurementFile& rec, const Comparison& c) const;
+  bool placing_pays() const { return placement_hits_.load() > 0 || placement_misses_.load() < 4; }
   mutable std::mutex placements_mutex_;
   mutable std::vector<std::shared_ptr<const Placement>> placements_;  // one per step, newest first
+  mutable std::atomic<long> placement_hits_{0}, placement_misses_{0};
 };
 
 // Bounds (the registry's tightened to physical ones), scales and starting values of every

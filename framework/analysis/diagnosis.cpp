@@ -902,6 +902,7 @@ class DiagnosisRun {
     std::vector<char> ok(next.size(), 0);  // not vector<bool>: its bits share words across threads
     std::vector<std::vector<std::string>> chains(next.size());  // each candidate's chain, in composition order
     std::vector<double> other_order(next.size(), std::numeric_limits<double>::quiet_NaN());  // combined NRMSE
+    std::vector<std::string> refit_notes(next.size());  // the refit of a candidate far above the chain below
     const int o2 = std::max(1, std::min<int>(options_.threads, static_cast<int>(next.size())));
     const std::string rung_name = "rung " + std::to_string(d_.ladder.size()) + ": ";
     say(rung_name + std::to_string(next.size()) + " candidate(s) added to " + join(cur.effects));
@@ -969,12 +970,18 @@ class DiagnosisRun {
         o.only_free = law_free_;
         for (const auto& e : chains[i])
           for (const auto& n : effect_params(e)) o.only_free.push_back(n);
+        const std::string what = rung_name + join(chains[i]) + " (far above the chain below) from the record's estimates, all free: ";
         try {
           CalibrationResult r = calibrate(data_, seg_, o);
-          say(rung_name + join(chains[i]) + " (far above the chain below) from the record's estimates, all free: " + fit_line(r));
+          say(what + fit_line(r));
+          char buf[160];
+          std::snprintf(buf, sizeof buf, "; far above the chain below (combined NRMSE %.4f), fitted again from the record's estimates: %.4f%s",
+                        best->nrmse[2], r.nrmse[2], r.rss < best->rss ? ", kept" : ", not kept");
+          refit_notes[i] = buf;
           if (r.rss < best->rss) best = std::move(r);
-        } catch (const std::exception&) {
-          // kept as fitted
+        } catch (const std::exception& e) {
+          say(what + "failed (" + e.what() + ")");
+          refit_notes[i] = std::string("; far above the chain below, fitted again from the record's estimates: failed (") + e.what() + "), kept as fitted";
         }
       }
       if (best) {
@@ -1002,6 +1009,7 @@ class DiagnosisRun {
       const bool first = chains[i].size() > 1 && chains[i].front() == next[i]->effect;
       dec.composed_first = first;
       dec.nrmse_other_order = other_order[i];
+      dec.reason += refit_notes[i];
       if (std::isfinite(other_order[i])) {
         char buf[200];
         std::snprintf(buf, sizeof buf, "; composed %s the chain (combined NRMSE %.4f there, %.4f %s)", first ? "first in" : "last in",

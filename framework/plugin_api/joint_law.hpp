@@ -167,15 +167,15 @@ class EffectChain {
   // The effect that defines the normal response, or null (the law's own relation applies).
   const EffectBase* normal() const { return normal_; }
   void modify(ShearContext& ctx) {
-    // Kept for after(), which does nothing without effects: no copy then (the context, 232
+    // Kept for after(), which does nothing without effects: no copy then (the context, 200
     // bytes, was copied twice per update, once right after the law wrote it: a load stalled on
-    // those stores, a tenth of Mohr-Coulomb's update).
-    if (!effects_) return;
+    // those stores).
+    if (!effects_ || effects_->empty()) return;
     for (std::size_t i = 0; i < effects_->size(); ++i) (*effects_)[i]->modify(block_ + (*offsets_)[i], ctx);
     last_ = ctx;
   }
   void after(const JointResponse& r) const {
-    if (!effects_) return;
+    if (!effects_ || effects_->empty()) return;
     for (std::size_t i = 0; i < effects_->size(); ++i) (*effects_)[i]->after(block_ + (*offsets_)[i], last_, r);
   }
 

@@ -10,6 +10,8 @@
 
 #include "tests/unit/noisy_record.hpp"
 #include "framework/analysis/calibration.hpp"
+#include "framework/analysis/calibration_fit.hpp"
+#include "framework/analysis/segmentation.hpp"
 #include "framework/core/error.hpp"
 #include "framework/io/measurement_csv.hpp"
 #include "framework/plugin_api/joint_law.hpp"
@@ -209,4 +211,60 @@ TEST(Calibration, UnknownNamesAreInputErrorsListingTheValidOnes) {
   CalibrationOptions o3 = options("mohr_coulomb");
   o3.fix_text["friction"] = "30";  // an angle needs its unit
   EXPECT_THROW(calibrate(f, seg, o3), InputError);
+}
+
+TEST(Calibration, AReusedPlacementGivesTheResidualsAndJacobianOfAFreshEvaluator) {
+  // A fit's Evaluator keeps where the measured rows sit on the model record of each driver step
+  // and reuses it while the record's path columns are the same to the bit (calibration_fit.hpp,
+  // Placement). Its residuals and forward-difference Jacobian (columns on two threads) must be
+  // those of an Evaluator that aligns every run afresh, to the bit, at both steps.
+  using calibration_detail::Evaluator;
+  using calibration_detail::Slot;
+  const RawValues mc{{"kn", q("40 GPa/m")},          {"ks", q("15 GPa/m")},
+                     {"friction", q("35 deg")},      {"dilation_angle", q("5 deg")},
+                     {"dilation", q("reversible")}};
+  auto model = make_joint_model("mohr_coulomb", mc, {}, "test");
+  const MeasurementFile f = testutil::noisy_two_stage_record(*model, 2.5e-5, 4, false, 7);
+  const Segmentation seg = segment(f);
+  CalibrationOptions o = options("mohr_coulomb");
+  o.law_values = mc;
+  o.threads = 2;
+  auto slot = [](const char* name, Dimension dim, double lo, double hi) {
+    Slot s;
+    s.info.name = name;
+    s.info.kind = "real";
+    s.info.dim = dim;
+    s.name = name;
+    s.owner = "mohr_coulomb";
+    s.free = true;
+    s.lower = lo;
+    s.upper = hi;
+    s.value = s.start = 0.5 * (lo + hi);
+    return s;
+  };
+  const double deg = std::numbers::pi / 180.0;
+  const std::vector<Slot> slots{slot("friction", Dimension::angle, 25 * deg, 45 * deg),
+                                slot("ks", Dimension::stiffness, 5e9, 3e10),
+                                slot("dilation_angle", Dimension::angle, 0.0, 10 * deg)};
+  const std::vector<std::size_t> free{0, 1, 2};
+  const std::vector<ElementStage> stages = stages_from_data(f, seg);
+  const Evaluator warm(f, seg, o, slots, free, stages);
+  const std::vector<std::vector<double>> points{{0.5, 0.4, 0.5}, {0.2, 0.9, 0.1}, {0.8, 0.1, 0.9}, {0.5, 0.4, 0.5}};
+  for (const double step : {5e-5, 2.5e-5}) {
+    for (const auto& x : points) {
+      const Evaluator fresh(f, seg, o, slots, free, stages);
+      std::vector<double> rw, rf;
+      ASSERT_TRUE(warm.residuals(x.data(), step, rw));
+      ASSERT_TRUE(fresh.residuals(x.data(), step, rf));
+      ASSERT_EQ(rw.size(), rf.size());
+      for (std::size_t i = 0; i < rw.size(); ++i) ASSERT_EQ(rw[i], rf[i]) << "residual " << i << " step " << step;
+      Eigen::MatrixXd jw, jf;
+      ASSERT_TRUE(warm.jacobian(x.data(), rw, step, jw));
+      ASSERT_TRUE(fresh.jacobian(x.data(), rf, step, jf));
+      EXPECT_TRUE(jw == jf) << "step " << step;
+    }
+  }
+  // The warm one did reuse its placements (every run after the first at each step, its
+  // Jacobian's included); the fresh ones only within their Jacobians.
+  EXPECT_GE(warm.placement_hits(), 2 * (static_cast<long>(points.size()) * 4 - 1));
 }

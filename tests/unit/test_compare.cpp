@@ -345,7 +345,8 @@ TEST(Compare, TheNormalStressRuleIsTheOneCompareRefusesBy) {
   // Calibration checks a reused placement's normal stress with normal_stress_mismatch: the same
   // rule and words as compare's refusal (4 MPa measured; 1 % + 0.01 MPa allowed by default).
   const MeasurementFile d = make(path(40.0, 4.0), false, 0.0, 100, 1.0);
-  const StageInfo& st = segment(d).stages[1];
+  const Segmentation ds = segment(d);
+  const StageInfo& st = ds.stages[1];
   EXPECT_EQ(normal_stress_mismatch(st, 4.04), "");
   const std::string why = normal_stress_mismatch(st, 5.0);
   EXPECT_NE(why.find("stage 2: different normal stress"), std::string::npos) << why;
