@@ -160,21 +160,8 @@ bool Evaluator::residuals(const double* x, double step, std::vector<double>& r, 
     if (placing) ++(known ? placement_hits_ : placement_misses_);
     Comparison c;
     if (known) {
-      for (std::size_t i = 0; i < known->stages.size(); ++i) {
-        const StageInfo& m = known->stages[i];
-        // The median lies between the extremes: where both pass, it does (no sort).
-        double lo = kInf, hi = -kInf;
-        for (std::size_t j = m.begin; j < m.end; ++j) {
-          lo = std::min(lo, rec.rows[j].normal_stress_MPa);
-          hi = std::max(hi, rec.rows[j].normal_stress_MPa);
-        }
-        const auto differs = [&](double model_MPa) {
-          return normal_stress_mismatch(seg_.stages[i], model_MPa, opt_.compare);
-        };
-        if (differs(lo).empty() && differs(hi).empty()) continue;
-        if (std::string why_not = differs(stage_normal_stress(rec, m.begin, m.end)); !why_not.empty())
-          throw InputError(why_not);
-      }
+      if (std::string differs = normal_stress_mismatch(seg_, rec, known->stages, opt_.compare); !differs.empty())
+        throw InputError(differs);
     } else {
       c = out ? compare(data_, seg_, rec, opt_.compare) : align_records(data_, seg_, rec, opt_.compare);
       if (placing_pays()) remember(step, rec, c);

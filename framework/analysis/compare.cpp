@@ -230,6 +230,24 @@ std::string normal_stress_mismatch(const StageInfo& d, double model_MPa, const C
          " MPa (medians; allowed difference " + fmt("%.2g", sn_tol) + " MPa)";
 }
 
+std::string normal_stress_mismatch(const Segmentation& data, const MeasurementFile& model,
+                                   const std::vector<StageInfo>& model_stages, const CompareOptions& options) {
+  for (std::size_t i = 0; i < model_stages.size(); ++i) {
+    const StageInfo& m = model_stages[i];
+    // The median lies between the extremes: where both pass, it does (no sort).
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (std::size_t j = m.begin; j < m.end; ++j) {
+      lo = std::min(lo, model.rows[j].normal_stress_MPa);
+      hi = std::max(hi, model.rows[j].normal_stress_MPa);
+    }
+    const StageInfo& d = data.stages[i];
+    if (normal_stress_mismatch(d, lo, options).empty() && normal_stress_mismatch(d, hi, options).empty()) continue;
+    if (std::string why = normal_stress_mismatch(d, stage_normal_stress(model, m.begin, m.end), options); !why.empty())
+      return why;
+  }
+  return {};
+}
+
 void check_compatible(const Segmentation& data, const Segmentation& model, const CompareOptions& options) {
   check_stage_lists(data, model);
   bool structural = false;

@@ -110,6 +110,11 @@ void check_compatible(const Segmentation& data, const Segmentation& model, const
 // compare()'s check of a stage's normal stress: the model's (StageInfo::normal_stress_MPa) against
 // the measurement's, within options.normal_stress_tolerance; the reason if they differ, else "".
 std::string normal_stress_mismatch(const StageInfo& data, double model_MPa, const CompareOptions& options = {});
+// The same for every stage of a model record whose stages are `model_stages` (its segmentation's,
+// in the measurement's order): the first reason, else "". Calibration, reusing an alignment,
+// checks only this again.
+std::string normal_stress_mismatch(const Segmentation& data, const MeasurementFile& model,
+                                   const std::vector<StageInfo>& model_stages, const CompareOptions& options = {});
 
 // Interpolates the model at every measured row; the segmentations must be compatible.
 Alignment align(const MeasurementFile& data, const Segmentation& data_segments, const MeasurementFile& model,

@@ -707,6 +707,17 @@ class DiagnosisRun {
     return o;
   }
 
+  // options_for with every effect of the chain free as well, from `from`'s values (null: the
+  // record's estimates).
+  CalibrationOptions all_free(const std::vector<std::string>& chain, const std::string& added,
+                              const CalibrationResult* from, int threads) const {
+    CalibrationOptions o = options_for(chain, added, from ? *from : CalibrationResult{}, threads);
+    for (const auto& e : chain)
+      if (e != added)
+        for (const auto& n : effect_params(e)) o.only_free.push_back(n);
+    return o;
+  }
+
   // Every effect, added alone and refitted with the base law's free parameters.
   void try_each_effect(const RecordFeatures& features) {
     const std::vector<std::string> effects = options_.effects.empty() ? physical_effects() : options_.effects;
@@ -963,13 +974,7 @@ class DiagnosisRun {
       // Continuously-Yielding two_order_roughness ended at 0.066 on 0.065, and the refit cost
       // 2.3 of 14 s for a candidate that lost to another either way.)
       if (best && best->nrmse[2] > kFarAbove * cur.fit.nrmse[2]) {
-        CalibrationOptions o = options_.base;
-        o.effects = chains[i];
-        o.threads = threads;
-        o.polish = false;
-        o.only_free = law_free_;
-        for (const auto& e : chains[i])
-          for (const auto& n : effect_params(e)) o.only_free.push_back(n);
+        const CalibrationOptions o = all_free(chains[i], added, nullptr, threads);
         const std::string what = rung_name + join(chains[i]) + " (far above the chain below) from the record's estimates, all free: ";
         try {
           CalibrationResult r = calibrate(data_, seg_, o);
@@ -1038,10 +1043,7 @@ class DiagnosisRun {
   // counts every effect parameter of the chain (count_parameters).
   void refit_chain(LadderStep& rung, LadderDecision& dec) const {
     if (rung.effects.size() < 2) return;
-    CalibrationOptions o = options_for(rung.effects, rung.added, rung.fit, options_.threads);
-    for (const auto& e : rung.effects)
-      if (e != rung.added)
-        for (const auto& n : effect_params(e)) o.only_free.push_back(n);
+    const CalibrationOptions o = all_free(rung.effects, rung.added, &rung.fit, options_.threads);
     try {
       CalibrationResult r = calibrate(data_, seg_, o);
       say("rung " + std::to_string(d_.ladder.size()) + ": " + join(rung.effects) + " refitted with all its parameters free: " +
