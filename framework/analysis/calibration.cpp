@@ -215,6 +215,32 @@ void scan_decay_lengths(const Evaluator& ev, const std::vector<Slot>& slots, con
   }
 }
 
+// CalibrationOptions::other_starts: each point run once at the fitting step, the lowest objective
+// kept (x and its residuals r replaced). A point that cannot be run is passed over.
+void pick_other_start(const Evaluator& ev, const std::vector<Slot>& slots, const std::vector<std::size_t>& free, double coarse,
+                      const CalibrationOptions& options, std::vector<double>& x, std::vector<double>& r) {
+  double best = robust_cost(r, options.loss_scale);
+  std::vector<double> keep = x;
+  for (const auto& point : options.other_starts) {
+    std::vector<double> xt = x, rt;
+    bool moved = false;
+    for (std::size_t j = 0; j < free.size(); ++j) {
+      const auto it = point.find(slots[free[j]].name);
+      if (it == point.end() || !std::isfinite(it->second)) continue;
+      xt[j] = std::clamp(ev.to_unit(j, std::clamp(it->second, slots[free[j]].lower, slots[free[j]].upper)), 0.02, 0.98);
+      moved = moved || xt[j] != x[j];
+    }
+    if (!moved || !ev.residuals(xt.data(), coarse, rt)) continue;
+    const double cost = robust_cost(rt, options.loss_scale);
+    if (cost < best) {
+      best = cost;
+      keep = std::move(xt);
+      r = std::move(rt);
+    }
+  }
+  x = std::move(keep);
+}
+
 // The starting point in the [0, 1] space, which must run. Estimates can be absurd for a law (a
 // first-stroke dilation angle accumulated monotonically over 40 cycles lifts the joint off), so
 // the registry defaults, then the lower bounds, of the free parameters are tried before giving
@@ -225,7 +251,10 @@ std::vector<double> runnable_start(const Evaluator& ev, std::vector<Slot>& slots
   std::vector<double> x(kk);
   // Start a little inside the bounds: a default on a bound (an effect's "off" value) is a poor
   // start for a bounded trust-region step.
-  for (std::size_t j = 0; j < kk; ++j) x[j] = std::clamp(ev.to_unit(j, slots[free[j]].value), 0.02, 0.98);
+  for (std::size_t j = 0; j < kk; ++j) {
+    const double u = ev.to_unit(j, slots[free[j]].value);
+    x[j] = options.start_is_optimum && options.start.count(slots[free[j]].name) ? std::clamp(u, 0.0, 1.0) : std::clamp(u, 0.02, 0.98);
+  }
   std::vector<double> r;
   std::string why;
   bool ok = ev.residuals(x.data(), coarse, r, nullptr, nullptr, &why);
@@ -245,6 +274,7 @@ std::vector<double> runnable_start(const Evaluator& ev, std::vector<Slot>& slots
   if (!ok)
     throw InputError("calibrate: the model at the starting values (" + ev.describe(x.data()) +
                      ") cannot be run or compared with the data: " + why);
+  pick_other_start(ev, slots, free, coarse, options, x, r);
   scan_decay_lengths(ev, slots, free, coarse, options, x, r);
   for (std::size_t j = 0; j < kk; ++j) slots[free[j]].start = ev.to_si(j, x[j]);
   return x;
@@ -259,7 +289,7 @@ void run_fit(const Evaluator& ev, std::vector<double>& x, double coarse, double 
   std::atomic<int> iterations{0};
   // The fine-step polish takes its Jacobian at the fitting step (calibration_detail::solve).
   auto solve_from = [&](std::vector<double>& xs, double step, int max_iterations) {
-    return calibration_detail::solve(ev, xs, step, max_iterations, options.loss_scale, iterations, coarse);
+    return calibration_detail::solve(ev, xs, step, max_iterations, options.loss_scale, iterations, coarse, options.start_is_optimum);
   };
   auto solve = [&](double step, int max_iterations) { return solve_from(x, step, max_iterations); };
   const std::size_t kk = x.size();

@@ -49,6 +49,15 @@ struct CalibrationOptions {
   std::vector<std::string> only_free;
   // Starting values [SI] overriding the estimates (warm starts).
   std::map<std::string, double> start;
+  // The starting values are an optimum already (a refit of a fitted chain with more parameters
+  // free): taken as they are, a value on its bound kept there. Otherwise every start is moved a
+  // little inside its bounds (a default on a bound, an effect's "off" value, is a poor start).
+  bool start_is_optimum = false;
+  // Other starting values for some of the free parameters (each map a point: its parameters
+  // replace the start's, the rest kept). Each is run once at the fitting step and the fit starts
+  // from the point of the lowest objective, the start above included (diagnose: a rung
+  // candidate's values at the rung below, against its registry defaults).
+  std::vector<std::map<std::string, double>> other_starts;
   // Stages to run; empty: from the data (its normal stress per stage, its shear path as a table).
   std::vector<ElementStage> stages;
   ElementOptions element;           // the final evaluation (max_step: the fine step)

@@ -256,7 +256,7 @@ bool Evaluator::jacobian(const double* x, const std::vector<double>& r0, double 
 }
 
 ceres::Solver::Summary solve(const Evaluator& ev, std::vector<double>& xs, double step, int max_iterations, double loss_scale,
-                             std::atomic<int>& iterations, double jacobian_step) {
+                             std::atomic<int>& iterations, double jacobian_step, bool near_optimum) {
   SharedResiduals shared(ev, step, jacobian_step);
   ceres::Problem::Options po;
   po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
@@ -275,7 +275,7 @@ ceres::Solver::Summary solve(const Evaluator& ev, std::vector<double>& xs, doubl
   so.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
   so.linear_solver_type = ceres::DENSE_QR;
   so.max_num_iterations = max_iterations;
-  if (jacobian_step > step) {
+  if (jacobian_step > step || near_optimum) {
     // The fine-step polish starts next to an optimum. From Ceres's default radius (1e4, a
     // Gauss-Newton step) its first step ran far along the record's flat directions (a stiffness at
     // its bound) and was refused again and again while the radius halved: 85 fine runs before the

@@ -151,9 +151,10 @@ void set_bounds_and_starts(std::vector<Slot>& slots, const MeasurementFile& data
 // its iterations costs one fine run and k + 1 runs at the fitting step instead of k + 1 fine ones.
 // Every step is still accepted on the residuals at `step`, so the polish converges to where the
 // fine step's cost is stationary along the fitting step's sensitivities. Such a polish (a
-// jacobian_step coarser than `step`) starts from a trust-region radius of 1, not Ceres's 1e4.
+// jacobian_step coarser than `step`) starts from a trust-region radius of 1, not Ceres's 1e4, and
+// so does a fit whose start is an optimum already (`near_optimum`).
 ceres::Solver::Summary solve(const Evaluator& ev, std::vector<double>& x, double step, int max_iterations, double loss_scale,
-                             std::atomic<int>& iterations, double jacobian_step = 0.0);
+                             std::atomic<int>& iterations, double jacobian_step = 0.0, bool near_optimum = false);
 
 // Standard errors in the [0, 1] space from the Jacobian at the optimum x (residuals r at the
 // driver step): Cov = (J^T J)^-1 s^2, s^2 =

@@ -930,12 +930,26 @@ class DiagnosisRun {
       // it nothing, and the defaults are the one start (test 9's twin with Continuously-Yielding:
       // two_order_roughness's two rung fits from there cost 4 of 15.6 s and were not kept).
       const bool paid_alone = next[i]->delta_ic < 0.0 && next[i]->fit.nrmse[2] < (1.0 - kLadderMinCut) * d_.baseline.nrmse[2];
+      // The other start begins from the defaults or, where either runs with a lower objective
+      // (one run each), from the values the effect took alone (where those did not pay: a warm
+      // start of their own is not worth a fit) or at the rung below. From the defaults the
+      // candidate can start far above the chain below (test 9's twin with Continuously-Yielding:
+      // two_order_roughness's 10-degree second-order angle, an objective 7 times the chain's) and
+      // crawl back for tens of iterations.
+      std::map<std::string, double> alone;
+      if (!paid_alone && next[i]->fitted)
+        for (const auto& p : next[i]->fit.params)
+          if (p.owner == added) alone[p.name] = p.value;
+      const auto below = rung_below_values_.find(added);
       auto fit_chain = [&](const std::vector<std::string>& chain) -> std::optional<CalibrationResult> {
-        const CalibrationOptions cold = options_for(chain, added, cur.fit, threads);
+        CalibrationOptions cold = options_for(chain, added, cur.fit, threads);
         CalibrationOptions warm = cold;
         if (paid_alone)
           for (const auto& p : next[i]->fit.params)
             if (p.owner == added) warm.start[p.name] = p.value;
+        if (!alone.empty()) cold.other_starts.push_back(alone);
+        if (below != rung_below_values_.end()) cold.other_starts.push_back(below->second);
+        if (!paid_alone) warm = cold;
         std::string warm_error, cold_error;  // a candidate neither start can fit is left out
         // (the cold start is skipped where it is the warm one: nothing to fit, or the defaults kept)
         return fit_from_two_starts(warm, warm.start != cold.start ? &cold : nullptr, warm_error, cold_error);
@@ -996,8 +1010,14 @@ class DiagnosisRun {
       }
     });
     std::vector<std::size_t> order;
-    for (std::size_t i = 0; i < next.size(); ++i)
-      if (ok[i]) order.push_back(i);
+    for (std::size_t i = 0; i < next.size(); ++i) {
+      if (!ok[i]) continue;
+      order.push_back(i);
+      auto& values = rung_below_values_[next[i]->effect];
+      values.clear();
+      for (const auto& p : fits[i].params)
+        if (p.owner == next[i]->effect && std::isfinite(p.value)) values[p.name] = p.value;
+    }
     std::vector<EffectiveSize> sizes(next.size());
     std::vector<double> ic(next.size(), 0.0);
     for (const std::size_t i : order) {
@@ -1043,7 +1063,8 @@ class DiagnosisRun {
   // counts every effect parameter of the chain (count_parameters).
   void refit_chain(LadderStep& rung, LadderDecision& dec) const {
     if (rung.effects.size() < 2) return;
-    const CalibrationOptions o = all_free(rung.effects, rung.added, &rung.fit, options_.threads);
+    CalibrationOptions o = all_free(rung.effects, rung.added, &rung.fit, options_.threads);
+    o.start_is_optimum = true;
     try {
       CalibrationResult r = calibrate(data_, seg_, o);
       say("rung " + std::to_string(d_.ladder.size()) + ": " + join(rung.effects) + " refitted with all its parameters free: " +
@@ -1107,6 +1128,8 @@ class DiagnosisRun {
   Diagnosis d_;
   bool short_record_ = false;
   std::vector<std::string> law_free_;
+  // Each candidate's own parameter values at the last rung it was fitted on (a start at the next).
+  std::map<std::string, std::map<std::string, double>> rung_below_values_;
 };
 
 }  // namespace
