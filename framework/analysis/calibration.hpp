@@ -14,6 +14,7 @@
 // Cov = (J^T J)^-1 s^2, s^2 = RSS/(n - k) (residuals treated as independent: a lower bound when
 // the misfit is systematic). docs/user-guide-calibrate-diagnose.md describes all of it.
 #include <array>
+#include <limits>
 #include <map>
 #include <memory>
 #include <string>
@@ -75,6 +76,12 @@ struct CalibrationOptions {
   // (comparison.model_segments.labels). Diagnose, which fits a score of models and reads
   // neither, keeps none: some 40 MB a fit on a 40-cycle record at the fine step.
   bool keep_model = true;
+  // Which free parameters get a profile-likelihood interval (FittedParam::profile_lower/upper):
+  // none; those whose standard error says little (`poor`: at a bound, not identifiable, or a
+  // linearised 95 % interval reaching past a bound); all. Each costs some ten fits of the
+  // others at the fitting step.
+  enum class Profile { none, poor, all };
+  Profile profile = Profile::poor;
   CompareOptions compare;
 };
 
@@ -88,6 +95,13 @@ struct FittedParam {
   double lower = 0.0, upper = 0.0;  // bounds used [SI]
   double se = 0.0;                  // standard error [SI]; inf: not identifiable from this record
   bool at_bound = false;
+  // Profile-likelihood 95 % interval [SI] (CalibrationOptions::profile); NaN: not profiled. An
+  // open end is a bound the profile reached inside the criterion: the record does not pin the
+  // parameter down on that side.
+  double profile_lower = std::numeric_limits<double>::quiet_NaN(), profile_upper = std::numeric_limits<double>::quiet_NaN();
+  bool profile_lower_open = false, profile_upper_open = false;
+  int profile_fits = 0;
+  bool profiled() const { return profile_lower == profile_lower; }  // not NaN
 };
 
 struct CalibrationResult {

@@ -255,8 +255,19 @@ bool Evaluator::jacobian(const double* x, const std::vector<double>& r0, double 
   return true;
 }
 
+double robust_cost(const std::vector<double>& r, double c) {
+  const ceres::SoftLOneLoss loss(c > 0.0 ? c : 1.0);
+  double sum = 0.0;
+  for (double v : r) {
+    double rho[3];
+    loss.Evaluate(v * v, rho);
+    sum += c > 0.0 ? rho[0] : v * v;
+  }
+  return 0.5 * sum;
+}
+
 ceres::Solver::Summary solve(const Evaluator& ev, std::vector<double>& xs, double step, int max_iterations, double loss_scale,
-                             std::atomic<int>& iterations, double jacobian_step, bool near_optimum) {
+                             std::atomic<int>& iterations, double jacobian_step, bool near_optimum, int fixed) {
   SharedResiduals shared(ev, step, jacobian_step);
   ceres::Problem::Options po;
   po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
@@ -270,6 +281,7 @@ ceres::Solver::Summary solve(const Evaluator& ev, std::vector<double>& xs, doubl
     problem.SetParameterLowerBound(xs.data(), static_cast<int>(j), 0.0);
     problem.SetParameterUpperBound(xs.data(), static_cast<int>(j), 1.0);
   }
+  if (fixed >= 0) problem.SetManifold(xs.data(), new ceres::SubsetManifold(static_cast<int>(kk), {fixed}));
   ceres::Solver::Options so;
   so.minimizer_type = ceres::TRUST_REGION;
   so.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;

@@ -153,8 +153,35 @@ void set_bounds_and_starts(std::vector<Slot>& slots, const MeasurementFile& data
 // fine step's cost is stationary along the fitting step's sensitivities. Such a polish (a
 // jacobian_step coarser than `step`) starts from a trust-region radius of 1, not Ceres's 1e4, and
 // so does a fit whose start is an optimum already (`near_optimum`).
+// `fixed` >= 0 holds that parameter at its value in x (a profile's fits).
 ceres::Solver::Summary solve(const Evaluator& ev, std::vector<double>& x, double step, int max_iterations, double loss_scale,
-                             std::atomic<int>& iterations, double jacobian_step = 0.0, bool near_optimum = false);
+                             std::atomic<int>& iterations, double jacobian_step = 0.0, bool near_optimum = false,
+                             int fixed = -1);
+
+// The fit's objective at residuals r: half the sum of Ceres's soft-L1 loss of scale c (plain
+// squares where c = 0).
+double robust_cost(const std::vector<double>& r, double c);
+
+// Profile-likelihood 95 % interval of free parameter j in the [0, 1] space, from the optimum x at
+// the driver step `step`: parameter j is held at values stepped away from x[j] and the others are
+// refitted there (warm, from the neighbouring point's optimum); a value is inside while
+// n_eff ln(C/C0) <= 3.841 (chi-square, one degree of freedom, 0.95), C the objective, C0 at x,
+// n_eff the independent values the residuals are worth (effective_size.hpp). Steps start at two
+// linearised standard errors (se_unit; 0.05 where infinite), double until the criterion is
+// crossed or the bound is reached, and the crossing is bisected twice and interpolated on sqrt(LR).
+struct ProfileEnd {
+  double u = 0.0;     // [0, 1]
+  bool open = true;   // the bound was reached inside the criterion
+};
+struct ProfileInterval {
+  ProfileEnd lower, upper;
+  int fits = 0;
+  // The lowest objective met, as a fraction of the optimum's (below 1: the fit stopped in a local
+  // optimum, or the fine-step polish moved it), and the parameter's value there.
+  double lowest = 1.0, lowest_at = 0.0;
+};
+ProfileInterval profile_interval(const Evaluator& ev, const std::vector<double>& x, std::size_t j, double step, double n_eff,
+                                 double se_unit, double loss_scale);
 
 // Standard errors in the [0, 1] space from the Jacobian at the optimum x (residuals r at the
 // driver step): Cov = (J^T J)^-1 s^2, s^2 =

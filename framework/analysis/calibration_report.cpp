@@ -41,6 +41,12 @@ nlohmann::json to_json(const CalibrationResult& r) {
       e["lower"] = p.lower;
       e["upper"] = p.upper;
       e["at_bound"] = p.at_bound;
+      if (p.profiled())
+        e["profile_95"] = {{"lower", p.profile_lower},
+                           {"upper", p.profile_upper},
+                           {"lower_open", p.profile_lower_open},
+                           {"upper_open", p.profile_upper_open},
+                           {"fits", p.profile_fits}};
       e["scale"] = p.log_scale ? "log" : "linear";
     }
     j["parameters"].push_back(e);
@@ -67,6 +73,12 @@ std::string format_table(const CalibrationResult& r) {
     }
     std::string note = p.at_bound ? "AT BOUND" : "";
     if (p.free && !std::isfinite(p.se)) note += note.empty() ? "not identifiable" : ", not identifiable";
+    if (p.profiled()) {
+      char range[160];
+      std::snprintf(range, sizeof range, "profile 95 %%: %s%.4g .. %.4g%s", p.profile_lower_open ? "(bound) " : "", p.profile_lower * f,
+                    p.profile_upper * f, p.profile_upper_open ? " (bound)" : "");
+      note += note.empty() ? range : std::string(", ") + range;
+    }
     std::snprintf(buf, sizeof buf, "  %-30s %-14.6g %-15s %-7s %s\n", p.name.c_str(), p.value * f, se.c_str(), unit.c_str(),
                   note.c_str());
     os << buf;

@@ -50,6 +50,12 @@ const CommandRegistrar reg{Command{
       sub.add_option("--fit-step", opt->fit_step, "element-driver step while fitting [m]")->check(CLI::Range(1e-7, 1e-2))->capture_default_str();
       sub.add_option("--max-iterations", opt->max_iterations, "Levenberg-Marquardt iterations")->check(CLI::Range(1, 1000))->capture_default_str();
       sub.add_option("--threads", opt->threads, "threads for the finite-difference Jacobian")->check(CLI::Range(1, 64))->capture_default_str();
+      auto profile = std::make_shared<std::string>("poor");
+      sub.add_option("--profile", *profile,
+                     "profile-likelihood 95 % intervals: none, poor (the parameters whose standard error says little: at a "
+                     "bound, not identifiable, or a linearised interval past a bound) or all")
+          ->check(CLI::IsMember({"none", "poor", "all"}))
+          ->capture_default_str();
       sub.add_flag("--quiet", *quiet, "print nothing but errors");
       auto overwrite = std::make_shared<bool>(false);
       sub.add_flag("--overwrite", *overwrite, "replace the files --json and --save-model write if they exist");
@@ -70,6 +76,9 @@ const CommandRegistrar reg{Command{
           plan.inputs("a drive file of --case", read_lab_test(*case_file).drive_files);
         plan.check(*overwrite);
         CalibrationOptions o = *opt;
+        o.profile = *profile == "none" ? CalibrationOptions::Profile::none
+                    : *profile == "all" ? CalibrationOptions::Profile::all
+                                        : CalibrationOptions::Profile::poor;
         CalibrationInputs in{*law, *effects, *case_file, *fixes, *frees, *sets, {}};
         const MeasurementFile d = read_measurement_csv(*data);
         std::vector<std::string> notes;

@@ -309,3 +309,46 @@ TEST(Calibration, TheFitStartsFromTheBestOfItsOtherStarts) {
   EXPECT_NEAR(param(worse, "friction").start, 20 * kDeg, 1e-12);
   EXPECT_NEAR(param(better, "friction").value, 36 * kDeg, 1 * kDeg);
 }
+
+// Profile-likelihood intervals (calibration_profile.cpp): by default for the parameters whose
+// standard error says little. On a record without dilation the dilation angle ends on its lower
+// bound: its interval is open there (the record cannot tell 0 from a little) and closed above,
+// and it holds the true value. Asked for every parameter, the friction angle's holds its true
+// value too and brackets the fitted one.
+TEST(Calibration, ProfileIntervalsWhereTheStandardErrorSaysLittle) {
+  RawValues flat = kMc;
+  flat["dilation_angle"] = q("0 deg");
+  const MeasurementFile g = record("mohr_coulomb", flat, 5);
+  const Segmentation seg = segment(g);
+  CalibrationOptions o = options("mohr_coulomb");
+  o.law_values["dilation"] = q("reversible");
+  const CalibrationResult r = calibrate(g, seg, o);
+  const FittedParam& dil = param(r, "dilation_angle");
+  ASSERT_TRUE(dil.at_bound);
+  ASSERT_TRUE(dil.profiled());
+  EXPECT_TRUE(dil.profile_lower_open);
+  EXPECT_EQ(dil.profile_lower, dil.lower);
+  EXPECT_FALSE(dil.profile_upper_open);
+  EXPECT_GT(dil.profile_upper, dil.value);
+  EXPECT_LT(dil.profile_upper, 2 * kDeg) << "a record of 0 deg cannot allow a large dilation angle";
+  EXPECT_GT(dil.profile_fits, 2);
+  EXPECT_FALSE(param(r, "friction").profiled()) << "well determined: not profiled by default";
+  bool warned = false;
+  for (const auto& w : r.warnings) warned = warned || w.find("dilation_angle is not pinned down below") != std::string::npos;
+  EXPECT_TRUE(warned);
+
+  o.profile = CalibrationOptions::Profile::all;
+  const CalibrationResult all = calibrate(g, seg, o);
+  const FittedParam& fr = param(all, "friction");
+  ASSERT_TRUE(fr.profiled());
+  EXPECT_FALSE(fr.profile_lower_open);
+  EXPECT_FALSE(fr.profile_upper_open);
+  EXPECT_LT(fr.profile_lower, fr.value);
+  EXPECT_GT(fr.profile_upper, fr.value);
+  EXPECT_LE(fr.profile_lower, 36 * kDeg);
+  EXPECT_GE(fr.profile_upper, 36 * kDeg);
+
+  o.profile = CalibrationOptions::Profile::none;
+  const CalibrationResult none = calibrate(g, seg, o);
+  for (const auto& p : none.params) EXPECT_FALSE(p.profiled()) << p.name;
+}

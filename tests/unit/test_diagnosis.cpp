@@ -329,12 +329,7 @@ MeasurementFile slide_hold_slide(const std::vector<EffectSpec>& effects, const s
   stages[0].normal_stress = 2e6;
   stages[0].path = testutil::slide_hold_slide_path(4.2e-5, 2e-3, holds_s);
   MeasurementFile f = d.run(stages);
-  std::mt19937 rng(seed);
-  std::normal_distribution<double> g(0.0, 1.0);
-  for (auto& r : f.rows) {
-    r.shear_stress_MPa += 0.005 * g(rng);
-    r.normal_disp_mm += 0.002 * g(rng);
-  }
+  testutil::add_noise(f, seed);
   f.metadata.push_back({"joint_length_m", "0.2"});
   return f;
 }
