@@ -277,10 +277,12 @@ void run_fit(const Evaluator& ev, std::vector<double>& x, double coarse, double 
              CalibrationResult& res) {
   std::atomic<int> iterations{0};
   // The fine-step polish takes its Jacobian at the fitting step (calibration_detail::solve).
-  auto solve_from = [&](std::vector<double>& xs, double step, int max_iterations) {
-    return calibration_detail::solve(ev, xs, step, max_iterations, options.loss_scale, iterations, coarse, options.start_is_optimum);
+  auto solve_from = [&](std::vector<double>& xs, double step, int max_iterations, bool near_optimum = false) {
+    return calibration_detail::solve(ev, xs, step, max_iterations, options.loss_scale, iterations, coarse, near_optimum);
   };
-  auto solve = [&](double step, int max_iterations) { return solve_from(x, step, max_iterations); };
+  // A start that is an optimum already takes Ceres's trust region from radius 1 (the middle of
+  // the box, a second start, does not).
+  auto solve = [&](double step, int max_iterations) { return solve_from(x, step, max_iterations, options.start_is_optimum); };
   const std::size_t kk = x.size();
   if (kk > 0) {
     ceres::Solver::Summary summary;
@@ -436,25 +438,36 @@ void profile_params(const MeasurementFile& data, const Segmentation& seg, const 
                     const std::vector<double>& x, const Eigen::VectorXd& se_x, double step, const CalibrationOptions& options,
                     CalibrationResult& res) {
   if (options.profile == CalibrationOptions::Profile::none || free.empty()) return;
-  const double n_eff = effective_sample_size(data, seg, res.comparison).total_n_eff();
+  const EffectiveSize size = effective_sample_size(data, seg, res.comparison);
+  const double n_eff = size.total_n_eff();
   if (!(n_eff > 0.0)) return;
+  // The standard errors count every row; the profile counts n_eff values. Judged on the same
+  // count (s.e. sqrt(n/n_eff)), a parameter whose honest interval reaches a bound is profiled.
+  const double inflation = std::sqrt(std::max(1.0, static_cast<double>(size.total_n()) / n_eff));
   for (std::size_t j = 0; j < free.size(); ++j) {
     FittedParam& p = res.params[free[j]];
     const double se = se_x(static_cast<Eigen::Index>(j));
-    const bool poor = p.at_bound || !std::isfinite(se) || x[j] - 1.96 * se < 0.0 || x[j] + 1.96 * se > 1.0;
+    const double reach = 1.96 * se * inflation;
+    const bool poor = p.at_bound || !std::isfinite(se) || x[j] - reach < 0.0 || x[j] + reach > 1.0;
     if (options.profile == CalibrationOptions::Profile::poor && !poor) continue;
     const calibration_detail::ProfileInterval pi = calibration_detail::profile_interval(ev, x, j, step, n_eff, se, options.loss_scale);
-    p.profile_lower = ev.to_si(j, pi.lower.u);
-    p.profile_upper = ev.to_si(j, pi.upper.u);
+    if (!pi.ran) {
+      res.warnings.push_back("parameter " + p.name + ": no profile-likelihood interval (" + pi.why + ")");
+      continue;
+    }
+    // An open end is the bound itself (the [0, 1] map's round trip is not exact on a log scale).
+    p.profile_lower = pi.lower.open ? p.lower : ev.to_si(j, pi.lower.u);
+    p.profile_upper = pi.upper.open ? p.upper : ev.to_si(j, pi.upper.u);
     p.profile_lower_open = pi.lower.open;
     p.profile_upper_open = pi.upper.open;
     p.profile_fits = pi.fits;
     // Beyond the fine-step polish's own shift of the fitting step's objective (a few parts in 1e4).
     if (pi.lowest < 0.999) {
-      char buf[200];
-      std::snprintf(buf, sizeof buf, "the profile of %s found a fit %.2g %% lower in the objective at %s = %s: the fit stopped in a local optimum; a start near there may fit better",
-                    p.name.c_str(), 100.0 * (1.0 - pi.lowest), p.name.c_str(), format_quantity(ev.to_si(j, pi.lowest_at), p.dim).c_str());
-      res.warnings.push_back(buf);
+      char pct[32];
+      std::snprintf(pct, sizeof pct, "%.2g", 100.0 * (1.0 - pi.lowest));
+      res.warnings.push_back("the profile of " + p.name + " found the fitting step's objective " + pct + " % lower at " + p.name + " = " +
+                             format_quantity(ev.to_si(j, pi.lowest_at), p.dim) +
+                             " than at the fitted values: the fit stopped in a local optimum (or the fine-step polish moved it that far); a start near there may fit better");
     }
     if (pi.lower.open && pi.upper.open)
       res.warnings.push_back("parameter " + p.name + " is not pinned down by this record: its profile-likelihood 95 % interval spans its whole range " +

@@ -174,6 +174,8 @@ struct ProfileEnd {
   bool open = true;   // the bound was reached inside the criterion
 };
 struct ProfileInterval {
+  bool ran = true;  // false: no profile (why says why): the model does not run at the optimum, or fits it exactly
+  std::string why;
   ProfileEnd lower, upper;
   int fits = 0;
   // The lowest objective met, as a fraction of the optimum's (below 1: the fit stopped in a local

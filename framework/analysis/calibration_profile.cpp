@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <string>
 
 #include <Eigen/Dense>
 
@@ -34,11 +35,16 @@ ProfileInterval profile_interval(const Evaluator& ev, const std::vector<double>&
   ProfileInterval out;
   std::vector<double> r;
   if (!ev.residuals(x.data(), step, r)) {
-    out.lower = {x[j], false};
-    out.upper = {x[j], false};
+    out.ran = false;
+    out.why = "the model does not run at the fitted values at the fitting step";
     return out;
   }
   const double c0 = robust_cost(r, loss_scale);
+  if (!(c0 > 0.0)) {  // LR would be infinite everywhere: no interval can be read
+    out.ran = false;
+    out.why = "the model fits the record exactly";
+    return out;
+  }
   // Where the others' optimum moves as parameter j does, to first order (the profile trace of the
   // linearised problem: J_o^T J_o ds = -J_o^T J_j): each refit starts on that line, not where
   // the others stood. Without it the refits of strongly coupled parameters (rate_and_state's a
@@ -94,7 +100,11 @@ ProfileInterval profile_interval(const Evaluator& ev, const std::vector<double>&
     // Refits at u; an inside point becomes the next start. Returns LR.
     auto try_at = [&](double u) {
       std::vector<double> xw = start_from(x_in, u_in, u);
-      const double lr = statistic(refit_at(u, xw));
+      double lr = statistic(refit_at(u, xw));
+      if (!std::isfinite(lr)) {  // perhaps the start on the trace cannot run: from the inside point
+        xw = x_in;
+        lr = statistic(refit_at(u, xw));
+      }
       if (lr <= kChi2OneDof95) {
         u_in = u;
         lr_in = lr;

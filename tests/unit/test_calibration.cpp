@@ -286,7 +286,7 @@ TEST(Calibration, ARefitFromAnOptimumStartsOnItsBounds) {
   CalibrationOptions moved = o;
   o.start_is_optimum = true;
   const CalibrationResult again = calibrate(g, seg, o);
-  EXPECT_EQ(param(again, "dilation_angle").start, param(first, "dilation_angle").value);
+  EXPECT_DOUBLE_EQ(param(again, "dilation_angle").start, param(first, "dilation_angle").value);
   EXPECT_LE(again.rss, first.rss * (1.0 + 1e-9));
   // Without the flag the same start is moved inside the bounds.
   const CalibrationResult cold = calibrate(g, seg, moved);

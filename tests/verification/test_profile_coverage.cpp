@@ -7,8 +7,8 @@
 // 2 MPa), with the blind tests' noise (0.005 MPa, 0.002 mm), and calibrated with every parameter
 // profiled (calibration_profile.cpp), three seeds. Measured 2026-11-29: the fits land within 13 %
 // of the truth, and the profile-likelihood 95 % intervals hold it in 6 of 9 (the linearised ones,
-// value +- 1.96 s.e., in 5): the fits carry a bias beyond the noise (seeds 2 and 3: a and b both
-// low by 1.4-1.5 interval half-widths) that neither interval can know of (docs/validation.md).
+// value +- 1.96 s.e., in 5): the fits carry a bias beyond the noise (seeds 2 and 3: a and b low
+// by 1.0-1.4 interval half-widths) that neither interval can know of (docs/validation.md).
 // What is asserted:
 //  - on this nearly linear problem, no parameter near a bound, the profile interval is as wide
 //    as the linearised one (within a factor 0.7-1.4; measured 0.96-1.03);
