@@ -434,13 +434,16 @@ std::vector<double> collect_params(const Evaluator& ev, const std::vector<Slot>&
 
 // Profile-likelihood intervals of the free parameters CalibrationOptions::profile names, at the
 // step the standard errors were taken at; an end that reaches a bound is warned about.
-void profile_params(const MeasurementFile& data, const Segmentation& seg, const Evaluator& ev, const std::vector<std::size_t>& free,
-                    const std::vector<double>& x, const Eigen::VectorXd& se_x, double step, const CalibrationOptions& options,
-                    CalibrationResult& res) {
-  if (options.profile == CalibrationOptions::Profile::none || free.empty()) return;
+// Returns the lowest objective any profile met below the optimum's (a fraction of it) and where.
+std::pair<double, std::vector<double>> profile_params(const MeasurementFile& data, const Segmentation& seg, const Evaluator& ev,
+                                                      const std::vector<std::size_t>& free, const std::vector<double>& x,
+                                                      const Eigen::VectorXd& se_x, double step, const CalibrationOptions& options,
+                                                      CalibrationResult& res) {
+  std::pair<double, std::vector<double>> lowest{1.0, {}};
+  if (options.profile == CalibrationOptions::Profile::none || free.empty()) return lowest;
   const EffectiveSize size = effective_sample_size(data, seg, res.comparison);
   const double n_eff = size.total_n_eff();
-  if (!(n_eff > 0.0)) return;
+  if (!(n_eff > 0.0)) return lowest;
   // The standard errors count every row; the profile counts n_eff values. Judged on the same
   // count (s.e. sqrt(n/n_eff)), a parameter whose honest interval reaches a bound is profiled.
   const double inflation = std::sqrt(std::max(1.0, static_cast<double>(size.total_n()) / n_eff));
@@ -461,6 +464,7 @@ void profile_params(const MeasurementFile& data, const Segmentation& seg, const 
     p.profile_lower_open = pi.lower.open;
     p.profile_upper_open = pi.upper.open;
     p.profile_fits = pi.fits;
+    if (pi.lowest < lowest.first) lowest = {pi.lowest, pi.lowest_x};
     // Beyond the fine-step polish's own shift of the fitting step's objective (a few parts in 1e4).
     if (pi.lowest < 0.999) {
       char pct[32];
@@ -477,6 +481,7 @@ void profile_params(const MeasurementFile& data, const Segmentation& seg, const 
                              " by this record: its profile-likelihood 95 % interval reaches its " + (pi.lower.open ? "lower" : "upper") +
                              " bound (" + format_quantity(p.profile_lower, p.dim) + " .. " + format_quantity(p.profile_upper, p.dim) + ")");
   }
+  return lowest;
 }
 
 }  // namespace
@@ -509,13 +514,45 @@ CalibrationResult calibrate(const MeasurementFile& data, const Segmentation& seg
   const double coarse = fitting_step(stages, options);
   Evaluator ev(data, seg, options, slots, free, stages);
   std::vector<double> x = runnable_start(ev, slots, free, coarse, options, res);
+  const CalibrationResult started = res;  // the warnings so far, for a fit started again
   run_fit(ev, x, coarse, fine, options, res);
 
-  // Fine-step evaluation, coarse-step NRMSE, Jacobian and standard errors at the optimum.
-  const StepResiduals base = evaluate_optimum(ev, x, coarse, fine, options.keep_model, res);
-  const Eigen::VectorXd se_x = calibration_detail::unit_standard_errors(ev, x, base.r, base.step, res);
-  const auto vals = collect_params(ev, slots, free, x, se_x, res);
-  profile_params(data, seg, ev, free, x, se_x, base.step, options, res);
+  // Fine-step evaluation, coarse-step NRMSE, Jacobian and standard errors at the optimum, and
+  // the profiles.
+  auto finish = [&](std::vector<double>& xs, CalibrationResult& r) {
+    const StepResiduals base = evaluate_optimum(ev, xs, coarse, fine, options.keep_model, r);
+    const Eigen::VectorXd se_x = calibration_detail::unit_standard_errors(ev, xs, base.r, base.step, r);
+    collect_params(ev, slots, free, xs, se_x, r);
+    return profile_params(data, seg, ev, free, xs, se_x, base.step, options, r);
+  };
+  const auto lowest = finish(x, res);
+  // A profile that met a clearly lower objective (more than 1 %, beyond any polish's shift) found
+  // a better basin than the fit's: the fit is run once more from there (one start, then its own
+  // profiles), and the lower fine-step RSS is kept. On test 14's twin with dilation_recovery +
+  // rate_and_state the profiles met objectives 1.8-21 % below the fit's.
+  if (lowest.first < 0.99 && !lowest.second.empty()) {
+    CalibrationOptions again = options;
+    again.starts = 1;
+    std::vector<double> x2 = lowest.second;
+    CalibrationResult r2 = started;
+    r2.iterations = 0;
+    try {
+      run_fit(ev, x2, coarse, fine, again, r2);
+      finish(x2, r2);
+      char buf[160];
+      std::snprintf(buf, sizeof buf, "a profile met an objective %.2g %% below the fit's optimum; fitted again from there: combined NRMSE %.4f -> %.4f%s",
+                    100.0 * (1.0 - lowest.first), res.nrmse[2], r2.nrmse[2], r2.rss < res.rss ? ", kept" : ", not kept");
+      if (r2.rss < res.rss) {
+        r2.iterations += res.iterations;
+        res = std::move(r2);
+        x = std::move(x2);
+      }
+      res.warnings.push_back(buf);
+    } catch (const std::exception& e) {
+      res.warnings.push_back(std::string("a profile met a lower objective than the fit's optimum; the fit from there failed (") + e.what() + ")");
+    }
+  }
+  const auto vals = ev.values(x.data());
   res.evaluations = ev.evaluations();
   res.model_description = ev.build(vals)->description();
   res.wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();

@@ -181,6 +181,7 @@ struct ProfileInterval {
   // The lowest objective met, as a fraction of the optimum's (below 1: the fit stopped in a local
   // optimum, or the fine-step polish moved it), and the parameter's value there.
   double lowest = 1.0, lowest_at = 0.0;
+  std::vector<double> lowest_x;  // every free parameter there (empty: none lower)
 };
 ProfileInterval profile_interval(const Evaluator& ev, const std::vector<double>& x, std::size_t j, double step, double n_eff,
                                  double se_unit, double loss_scale);

@@ -83,6 +83,7 @@ ProfileInterval profile_interval(const Evaluator& ev, const std::vector<double>&
     if (c < out.lowest * c0) {  // the profile found a lower objective than the fit's optimum
       out.lowest = c / c0;
       out.lowest_at = u;
+      out.lowest_x = xw;
     }
     return c;
   };

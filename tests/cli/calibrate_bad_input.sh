@@ -64,6 +64,12 @@ rf = p["dilation_recovery.residual_fraction"]["profile_95"]
 assert rf["lower_open"] and not rf["upper_open"] and rf["lower"] == 0.0 < rf["upper"] < 1.0, rf
 assert "profile_95" not in p["friction"], "a well-determined parameter is not profiled by default"
 PY
+# A profile that meets a clearly lower objective than the fit's optimum has found a better basin:
+# the fit runs again from there (test 14's twin, Mohr-Coulomb + dilation_recovery with its case:
+# 0.1641 -> 0.1450, measured 2026-11-29).
+expect profile_refit 0 calibrate --data "$src/cases/direct_shear/twins/test14.csv" --law mohr_coulomb \
+  --effects dilation_recovery --case "$src/cases/direct_shear/test14_mohr_coulomb.toml" -- \
+  "below the fit's optimum; fitted again from there: combined NRMSE" ", kept"
 
 # diagnose: the same checks on its inputs; a record of one forward stroke (no reverse shearing,
 # one side, one rate) names the effects that cannot be judged and why, and is no confident answer.
