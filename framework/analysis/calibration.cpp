@@ -447,13 +447,20 @@ std::pair<double, std::vector<double>> profile_params(const MeasurementFile& dat
   // The standard errors count every row; the profile counts n_eff values. Judged on the same
   // count (s.e. sqrt(n/n_eff)), a parameter whose honest interval reaches a bound is profiled.
   const double inflation = std::sqrt(std::max(1.0, static_cast<double>(size.total_n()) / n_eff));
+  Eigen::MatrixXd J;  // the profile trace's, taken at the first parameter profiled
+  bool jacobian_taken = false;
   for (std::size_t j = 0; j < free.size(); ++j) {
     FittedParam& p = res.params[free[j]];
     const double se = se_x(static_cast<Eigen::Index>(j));
     const double reach = 1.96 * se * inflation;
     const bool poor = p.at_bound || !std::isfinite(se) || x[j] - reach < 0.0 || x[j] + reach > 1.0;
     if (options.profile == CalibrationOptions::Profile::poor && !poor) continue;
-    const calibration_detail::ProfileInterval pi = calibration_detail::profile_interval(ev, x, j, step, n_eff, se, options.loss_scale);
+    if (!jacobian_taken && free.size() > 1) {
+      jacobian_taken = true;
+      std::vector<double> r;
+      if (!ev.residuals(x.data(), step, r) || !ev.jacobian(x.data(), r, step, J)) J.resize(0, 0);
+    }
+    const calibration_detail::ProfileInterval pi = calibration_detail::profile_interval(ev, x, J, j, step, n_eff, se, options.loss_scale);
     if (!pi.ran) {
       res.warnings.push_back("parameter " + p.name + ": no profile-likelihood interval (" + pi.why + ")");
       continue;

@@ -183,8 +183,10 @@ struct ProfileInterval {
   double lowest = 1.0, lowest_at = 0.0;
   std::vector<double> lowest_x;  // every free parameter there (empty: none lower)
 };
-ProfileInterval profile_interval(const Evaluator& ev, const std::vector<double>& x, std::size_t j, double step, double n_eff,
-                                 double se_unit, double loss_scale);
+// J: the Jacobian at x at `step` (the profile trace's; empty: none, each refit starts from the
+// neighbouring point), taken once for every parameter profiled.
+ProfileInterval profile_interval(const Evaluator& ev, const std::vector<double>& x, const Eigen::MatrixXd& J, std::size_t j,
+                                 double step, double n_eff, double se_unit, double loss_scale);
 
 // Standard errors in the [0, 1] space from the Jacobian at the optimum x (residuals r at the
 // driver step): Cov = (J^T J)^-1 s^2, s^2 =

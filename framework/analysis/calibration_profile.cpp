@@ -32,8 +32,8 @@ constexpr int kProfileIterations = 20;  // per refit of the others (warm starts 
 constexpr int kMaxSteps = 8;            // doubling steps of at least 0.005 reach either bound
 }  // namespace
 
-ProfileInterval profile_interval(const Evaluator& ev, const std::vector<double>& x, std::size_t j, double step, double n_eff,
-                                 double se_unit, double loss_scale) {
+ProfileInterval profile_interval(const Evaluator& ev, const std::vector<double>& x, const Eigen::MatrixXd& J, std::size_t j,
+                                 double step, double n_eff, double se_unit, double loss_scale) {
   ProfileInterval out;
   std::vector<double> r;
   if (!ev.residuals(x.data(), step, r)) {
@@ -55,16 +55,13 @@ ProfileInterval profile_interval(const Evaluator& ev, const std::vector<double>&
   // converged either way.)
   const std::size_t kk = ev.k();
   Eigen::VectorXd trace = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(kk));
-  if (kk > 1) {
-    Eigen::MatrixXd J;
-    if (ev.jacobian(x.data(), r, step, J)) {
-      Eigen::MatrixXd jo(J.rows(), static_cast<Eigen::Index>(kk - 1));
-      for (std::size_t i = 0, c = 0; i < kk; ++i)
-        if (i != j) jo.col(static_cast<Eigen::Index>(c++)) = J.col(static_cast<Eigen::Index>(i));
-      const Eigen::VectorXd ds = (jo.transpose() * jo).completeOrthogonalDecomposition().solve(-(jo.transpose() * J.col(static_cast<Eigen::Index>(j))));
-      for (std::size_t i = 0, c = 0; i < kk; ++i)
-        if (i != j) trace(static_cast<Eigen::Index>(i)) = ds(static_cast<Eigen::Index>(c++));
-    }
+  if (kk > 1 && J.cols() == static_cast<Eigen::Index>(kk)) {
+    Eigen::MatrixXd jo(J.rows(), static_cast<Eigen::Index>(kk - 1));
+    for (std::size_t i = 0, c = 0; i < kk; ++i)
+      if (i != j) jo.col(static_cast<Eigen::Index>(c++)) = J.col(static_cast<Eigen::Index>(i));
+    const Eigen::VectorXd ds = (jo.transpose() * jo).completeOrthogonalDecomposition().solve(-(jo.transpose() * J.col(static_cast<Eigen::Index>(j))));
+    for (std::size_t i = 0, c = 0; i < kk; ++i)
+      if (i != j) trace(static_cast<Eigen::Index>(i)) = ds(static_cast<Eigen::Index>(c++));
   }
   // The start of a refit at u from the inside point (u_in, x_in): along the trace.
   auto start_from = [&](const std::vector<double>& x_in, double u_in, double u) {

@@ -52,6 +52,14 @@ std::vector<std::string> free_names(const CalibrationResult& r, const std::strin
   return out;
 }
 
+// The values a fit gave the parameters `owner` owns (qualified names).
+std::map<std::string, double> values_of(const CalibrationResult& r, const std::string& owner) {
+  std::map<std::string, double> out;
+  for (const auto& p : r.params)
+    if (p.owner == owner && std::isfinite(p.value)) out[p.name] = p.value;
+  return out;
+}
+
 // Real parameters of an effect, qualified ("effect.param").
 std::vector<std::string> effect_params(const std::string& effect) {
   std::vector<std::string> out;
@@ -915,21 +923,17 @@ class DiagnosisRun {
       // candidate can start far above the chain below (test 9's twin with Continuously-Yielding:
       // two_order_roughness's 10-degree second-order angle, an objective 7 times the chain's) and
       // crawl back for tens of iterations.
-      std::map<std::string, double> alone;
-      if (!paid_alone && next[i]->fitted)
-        for (const auto& p : next[i]->fit.params)
-          if (p.owner == added) alone[p.name] = p.value;
+      const std::map<std::string, double> alone = values_of(next[i]->fit, added);
       const auto below = rung_below_values_.find(added);
       auto fit_chain = [&](const std::vector<std::string>& chain) -> std::optional<CalibrationResult> {
-        CalibrationOptions cold = options_for(chain, added, cur.fit, threads);
-        CalibrationOptions warm = cold;
-        if (paid_alone)
-          for (const auto& p : next[i]->fit.params)
-            if (p.owner == added) warm.start[p.name] = p.value;
-        if (!alone.empty()) cold.other_starts.push_back(alone);
+        const CalibrationOptions base = options_for(chain, added, cur.fit, threads);
+        CalibrationOptions cold = base;
+        if (!paid_alone && next[i]->fitted && !alone.empty()) cold.other_starts.push_back(alone);
         if (below != rung_below_values_.end()) cold.other_starts.push_back(below->second);
-        if (!paid_alone) warm = cold;
         std::string warm_error, cold_error;  // a candidate neither start can fit is left out
+        if (!paid_alone) return fit_from_two_starts(cold, nullptr, warm_error, cold_error);
+        CalibrationOptions warm = base;
+        for (const auto& [name, value] : alone) warm.start[name] = value;
         // (the cold start is skipped where it is the warm one: nothing to fit, or the defaults kept)
         return fit_from_two_starts(warm, warm.start != cold.start ? &cold : nullptr, warm_error, cold_error);
       };
@@ -992,10 +996,7 @@ class DiagnosisRun {
     for (std::size_t i = 0; i < next.size(); ++i) {
       if (!ok[i]) continue;
       order.push_back(i);
-      auto& values = rung_below_values_[next[i]->effect];
-      values.clear();
-      for (const auto& p : fits[i].params)
-        if (p.owner == next[i]->effect && std::isfinite(p.value)) values[p.name] = p.value;
+      rung_below_values_[next[i]->effect] = values_of(fits[i], next[i]->effect);
     }
     std::vector<EffectiveSize> sizes(next.size());
     std::vector<double> ic(next.size(), 0.0);
