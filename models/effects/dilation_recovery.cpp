@@ -1,15 +1,20 @@
 // dilation_recovery: on reverse shearing the dilation gained on the way out is given back as the
-// block returns toward the mated position, along a path below the forward curve, down to zero
-// or to a residual left by gouge (CNWRA report section 2, Figures 2-2, 2-7, 2-8; section 5: the
-// laws' sign change of psi recovers far too little). Target dilation on the way back from a
-// reversal at offset u_r with dilation d_r, x = |u_s|/|u_r| in [0, 1]:
-//   d(x) = max(d_res, d_r g(x)),  g(x) = x - h x (1 - x),  d_res = rho d_r
+// block returns toward the mated position, along a path below the forward curve (but for a
+// residual's share near the origin, where the forward curve starts from zero), down to zero or
+// to a residual left by gouge (CNWRA report section 2, Figures 2-2, 2-7, 2-8: the dilation
+// "tends to decrease constantly during reverse shearing and may retain a small amount" at the
+// original position; section 5: the laws' sign change of psi recovers far too little). Target
+// dilation on the way back from a reversal at offset u_r with dilation d_r, x = |u_s|/|u_r| in
+// [0, 1]:
+//   d(x) = d_res + (d_r - d_res) g(x),  g(x) = x - h x (1 - x),  d_res = rho d_r
 // g is the chord for h = 0 and x^2 for h = 1: the larger h, the faster the first recovery and
-// the further below the forward curve (hysteresis); the recovery stops at the gouge residual, so
-// the path stays below any forward curve above that residual. The effect sets the base law's
-// dilation rate so that its dilation follows d(x): rate = (d(x_end) - d)/|du_s|, never positive
-// (no dilation on the way back) and at most 2 (1 + h) d_r/|u_r| in magnitude (twice the steepest
-// slope of d; with rate_bound = "climb" also no more than 2 (1 + h) times the steepest dilation
+// the further below the forward curve (hysteresis). The path ends at the residual at the mated
+// position, straight (h = 0) or curved (h = 1, arriving flat), and keeps decreasing all the way.
+// (Until 2026-11-29 it was max(d_res, d_r g(x)): the same where rho = 0, but with a residual the
+// recovery stopped short of the origin and could not be a straight line ending above zero.)
+// The effect sets the base law's dilation rate so that its dilation follows d(x): rate =
+// (d(x_end) - d)/|du_s|, never positive (no dilation on the way back) and at most 2 (1 + h)
+// d_r/|u_r| in magnitude (at least twice the steepest slope of d; with rate_bound = "climb" also no more than 2 (1 + h) times the steepest dilation
 // rate met moving away from the origin), so that the lag left by the elastic part of the
 // reversal is caught up within a fraction of a millimetre instead of in one jump. Away from the
 // origin the base law's rate stands.
@@ -37,8 +42,9 @@ struct DilationRecovery {
               .max(1.0)
               .def(0.0),
           real("hysteresis", &Params::hysteresis, Dimension::dimensionless,
-               "h: shape of the return path d = max(d_res, d_r (x - h x (1 - x))), x = |u_s|/|u_reversal|; "
-               "0 = straight back toward the origin, 1 = x^2 (well below the forward curve)")
+               "h: shape of the return path d = d_res + (d_r - d_res) (x - h x (1 - x)), x = |u_s|/|u_reversal|; "
+               "0 = a straight line to the residual at the origin, 1 = a parabola arriving flat (well below the "
+               "forward curve)")
               .non_negative()
               .max(1.0)
               .def(1.0),
@@ -75,7 +81,9 @@ struct DilationRecovery {
     const double u_end = ctx.u_s + ctx.du_s;
     const double x = u_end * ctx.u_s <= 0.0 ? 0.0 : std::min(1.0, std::abs(u_end / s.u_rev));
     if (!(s.d_rev > 0.0)) return;
-    const double target = std::max(p.residual_fraction * s.d_rev, s.d_rev * (x - p.hysteresis * x * (1.0 - x)));
+    // Written so that rho = 0 gives d_r g(x) to the bit (0 + 1 * g), the form before 2026-11-29.
+    const double rho = p.residual_fraction;
+    const double target = s.d_rev * (rho + (1.0 - rho) * (x - p.hysteresis * x * (1.0 - x)));
     // The rate is bounded by twice the path's steepest slope, so that the lag left by the elastic
     // part of the reversal is caught up. With rate_bound = "climb" the slope is also no steeper
     // than the steepest climb met on the way out: in a rock mass under an earthquake a contact
