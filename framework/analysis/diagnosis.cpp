@@ -432,6 +432,13 @@ std::vector<std::string> dilation_modes(const std::string& law) {
   return {""};
 }
 
+// Best (lowest BIC) first, failed fits last.
+void order_base_laws(std::vector<BaseLawFit>& fits) {
+  std::stable_sort(fits.begin(), fits.end(), [](const BaseLawFit& a, const BaseLawFit& b) {
+    if (a.failed != b.failed) return !a.failed;
+    return !a.failed && a.fit.bic < b.fit.bic;
+  });
+}
 }  // namespace
 
 std::vector<BaseLawFit> fit_base_laws(const MeasurementFile& data, const Segmentation& seg, const CalibrationOptions& base,
@@ -488,10 +495,7 @@ std::vector<BaseLawFit> fit_base_laws(const MeasurementFile& data, const Segment
     f.fit.evaluations = 0;
     if (done) done(f);
   }
-  std::stable_sort(fits.begin(), fits.end(), [](const BaseLawFit& a, const BaseLawFit& b) {
-    if (a.failed != b.failed) return !a.failed;
-    return !a.failed && a.fit.bic < b.fit.bic;
-  });
+  order_base_laws(fits);
   return fits;
 }
 
@@ -665,15 +669,47 @@ class DiagnosisRun {
     d_.warnings.push_back(w);
   }
 
+  // The baseline is the one fit of the diagnosis that is profiled (the parameters its standard
+  // errors say little of, as calibrate's default): every effect is judged against it and starts
+  // from its values, so a baseline stopped in a poorer basin than the law can reach credits the
+  // effects with the law's own gain. Test 14's twin with Mohr-Coulomb (its case): the fit ends
+  // with ks on its upper bound at 0.2547; the profile of ks meets a 6.9 % lower objective at a
+  // soft ks, and the fit from there ends at 0.2344; the ladder's dilation_recovery then reaches
+  // 0.1458 (calibrate's 0.1445) where from the stiff basin it stopped at 0.1637 and
+  // directional_wear, refitted with every parameter free, was credited with leaving it (0.1539).
   void fit_baseline() {
     CalibrationOptions base = options_.base;
     base.effects.clear();
     base.threads = options_.threads;
     base.starts = 2;
+    base.profile = CalibrationOptions::Profile::poor;
     d_.baseline = calibrate(data_, seg_, base);
     say("baseline " + d_.law + ": " + fit_line(d_.baseline));
     for (const auto& w : d_.baseline.warnings) d_.warnings.push_back("baseline: " + w);
     law_free_ = free_names(d_.baseline, d_.law);
+    take_baseline_into_base_laws();
+  }
+
+  // The base-law check's row of the named law and mode is the baseline's model, fitted without
+  // profiles: where the baseline went lower, the row shows the baseline's fit (and so does a
+  // mode that is the same model here), so that the table and the baseline agree.
+  void take_baseline_into_base_laws() {
+    const std::string mode = baseline_mode();
+    std::string model = mode;
+    for (const auto& l : d_.base_laws)
+      if (l.law == d_.law && l.dilation == mode && !l.same_as.empty()) model = l.same_as;
+    bool changed = false;
+    for (auto& l : d_.base_laws) {
+      if (l.law != d_.law || (l.dilation != model && l.same_as != model)) continue;
+      if (!l.failed && !(d_.baseline.rss < l.fit.rss)) continue;
+      const std::string dilation = l.dilation;
+      l.failed = false;
+      l.reason.clear();
+      l.fit = d_.baseline;
+      l.fit.settings["dilation"] = dilation;
+      changed = true;
+    }
+    if (changed) order_base_laws(d_.base_laws);
   }
 
   // Calibration options for the base law with `chain` of effects, started from `from`'s values;
