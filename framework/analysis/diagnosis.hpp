@@ -74,7 +74,9 @@ struct BaseLawFit {
 // another) with each of their `dilation` modes, fitted to the record with base's stages and
 // element settings, and with those of base's starting values and fixes whose names the law
 // shares (kn, ks: measured on the specimen whatever the law); best (lowest BIC) first, failed
-// fits last. `threads` fits run at a time.
+// fits last. `threads` fits run at a time. Each is one start without the fine-step polish or
+// profiles; diagnose() then shows its baseline's fit (profiled, polished) in the row of the named
+// law and mode.
 // `done`, if given, is called after each fit (from the thread that ran it).
 std::vector<BaseLawFit> fit_base_laws(const MeasurementFile& data, const Segmentation& seg, const CalibrationOptions& base,
                                       int threads, const std::function<void(const BaseLawFit&)>& done = {});

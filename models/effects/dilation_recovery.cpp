@@ -14,8 +14,9 @@
 // recovery stopped short of the origin and could not be a straight line ending above zero.)
 // The effect sets the base law's dilation rate so that its dilation follows d(x): rate =
 // (d(x_end) - d)/|du_s|, never positive (no dilation on the way back) and at most 2 (1 + h)
-// d_r/|u_r| in magnitude (at least twice the steepest slope of d; with rate_bound = "climb" also no more than 2 (1 + h) times the steepest dilation
-// rate met moving away from the origin), so that the lag left by the elastic part of the
+// d_r/|u_r| in magnitude (twice the steepest slope of d where rho = 0, 2/(1 - rho) times it
+// with a residual; with rate_bound = "climb" also no more than 2 (1 + h) times the steepest
+// dilation rate met moving away from the origin), so that the lag left by the elastic part of the
 // reversal is caught up within a fraction of a millimetre instead of in one jump. Away from the
 // origin the base law's rate stands.
 #include <algorithm>
@@ -49,10 +50,11 @@ struct DilationRecovery {
               .max(1.0)
               .def(1.0),
           choice("rate_bound", &Params::rate_bound, {"path", "climb"}, "path",
-                 "steepest recovery: 'path', twice the return path's own slope (as validated on laboratory records, "
-                 "where dilation gained over many strokes comes back in one); 'climb', also no steeper than twice "
-                 "(1 + h) the steepest dilation rate met on the way out (for rock masses under earthquakes, where "
-                 "contacts vibrate and 'path' couples shear and normal too stiffly for a stable step)"),
+                 "steepest recovery: 'path', 2 (1 + h) d_r/|u_r|, at least twice the return path's own slope "
+                 "(as validated on laboratory records, where dilation gained over many strokes comes back in one); "
+                 "'climb', also no steeper than twice (1 + h) the steepest dilation rate met on the way out (for "
+                 "rock masses under earthquakes, where contacts vibrate and 'path' couples shear and normal too "
+                 "stiffly for a stable step)"),
       };
     }
   };
@@ -84,8 +86,8 @@ struct DilationRecovery {
     // Written so that rho = 0 gives d_r g(x) to the bit (0 + 1 * g), the form before 2026-11-29.
     const double rho = p.residual_fraction;
     const double target = s.d_rev * (rho + (1.0 - rho) * (x - p.hysteresis * x * (1.0 - x)));
-    // The rate is bounded by twice the path's steepest slope, so that the lag left by the elastic
-    // part of the reversal is caught up. With rate_bound = "climb" the slope is also no steeper
+    // The rate is bounded by at least twice the path's steepest slope, so that the lag left by the
+    // elastic part of the reversal is caught up. With rate_bound = "climb" the slope is also no steeper
     // than the steepest climb met on the way out: in a rock mass under an earthquake a contact
     // vibrating a hair from the mated position with dilation left from earlier strokes
     // (|u_rev| ~ 1e-7 m, d_rev ~ 0.1 mm) would otherwise ask for a rate of 1000, a normal-shear

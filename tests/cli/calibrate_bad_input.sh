@@ -68,7 +68,7 @@ assert "profile_95" not in p["friction"], "a well-determined parameter is not pr
 PY
 # A profile that meets a clearly lower objective than the fit's optimum has found a better basin:
 # the fit runs again from there (test 14's twin, Mohr-Coulomb + dilation_recovery with its case:
-# 0.1641 -> 0.1450, measured 2026-11-29).
+# 0.1637 -> 0.1445, measured 2026-11-29 with the effect's path ending at its residual).
 expect profile_refit 0 calibrate --data "$src/cases/direct_shear/twins/test14.csv" --law mohr_coulomb \
   --effects dilation_recovery --case "$src/cases/direct_shear/test14_mohr_coulomb.toml" -- \
   "below the fit's optimum; fitted again from there: combined NRMSE" ", kept"
@@ -126,9 +126,9 @@ else
 fi
 
 # Rungs by the IC with the effective number of independent residuals: on test 9's twin (Mohr-
-# Coulomb, the case's udec_legacy dilation) dilation_recovery is the first rung (0.152 -> 0.074);
+# Coulomb, the case's udec_legacy dilation) dilation_recovery is the first rung (0.152 -> 0.068);
 # two_order_roughness on top of it changes the error by 3 %, which a BIC counting each of the 4,806
-# correlated residuals as independent takes (delta BIC -93) and the IC does not (+15, n_eff ~80).
+# correlated residuals as independent takes (delta BIC -97) and the IC does not (+15, n_eff ~81).
 expect diag_ic 0 diagnose --data "$twin" --law mohr_coulomb --case "$src/cases/direct_shear/test09_mohr_coulomb.toml" \
   --no-base-law-check --effects dilation_recovery,two_order_roughness --json "$tmp/ic.json" -- \
   "mohr_coulomb + dilation_recovery" "not added at step 2: two_order_roughness does not lower the IC" \

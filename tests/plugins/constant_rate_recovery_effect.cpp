@@ -6,9 +6,10 @@
 // the path is straight from where the joint starts sliding back (the elastic part of the
 // reversal gives nothing back: no plastic slip) to rho d_r at the origin. It is written as a
 // rate, not as a target path as the catalogue's dilation_recovery is (whose line runs from the
-// reversal itself and catches up the elastic part's lag), so that tests/verification/test_dilation_recovery_shapes.cpp fits the
-// catalogue's effect to a shape made by other code (the report's Figures 2-7 and 2-8: the
-// dilation keeps falling on the way back and some is left at the origin).
+// reversal itself and catches up the elastic part's lag), so that
+// tests/verification/test_dilation_recovery_shapes.cpp fits the catalogue's effect to a shape
+// made by other code (the report's Figures 2-7 and 2-8: the dilation keeps falling on the way
+// back and some is left at the origin).
 #include <algorithm>
 #include <cmath>
 
