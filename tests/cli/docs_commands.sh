@@ -23,3 +23,23 @@ export ROCKDEM_BIN="$w/build/rockdem"  # the scripts use it instead of building
 # The README's Python example reads the history of `scripts/demo --dem`, which runs this:
 (cd "$w" && build/rockdem run --default --out rockdem-output/default --quiet) || { echo "FAIL run --default"; exit 1; }
 /usr/bin/python3 "$src/tests/cli/docs/run_doc_commands.py" "$w" "$tutorial_bin" "$src/README.md" "$src"/docs/tutorials/*.md
+rc=$?
+# The README's quoted ladder (Mohr-Coulomb on test 9's twin with its case, as scripts/demo runs
+# it) against today's: a figure in the README must be the one its command gives (3 digits).
+# (rockdem itself: the tutorial's steps above leave build/rockdem with its own effect compiled in.)
+(cd "$w" && "$bin" diagnose --data cases/direct_shear/twins/test09.csv --law mohr_coulomb \
+  --case cases/direct_shear/test09_mohr_coulomb.toml --json "$tmp/readme_ladder.json" --quiet) >/dev/null 2>&1 ||
+  { echo "FAIL the README's ladder: diagnose failed"; exit 1; }
+/usr/bin/python3 - "$src/README.md" "$tmp/readme_ladder.json" <<'PY' || rc=1
+import json, re, sys
+text = open(sys.argv[1], encoding="utf-8").read().replace("\n", " ")
+m = re.search(r"Mohr-Coulomb: combined NRMSE ([0-9.]+) → ([0-9.]+) with\s+`(\w+)`", text)
+if not m:
+    sys.exit("FAIL the README's ladder sentence ('Mohr-Coulomb: combined NRMSE A → B with `effect`') was not found")
+ladder = json.load(open(sys.argv[2]))["ladder"]
+got = (f"{ladder[0]['nrmse']['combined']:.3f}", f"{ladder[-1]['nrmse']['combined']:.3f}", "+".join(ladder[-1]["effects"]))
+if got != m.groups():
+    sys.exit(f"FAIL the README quotes the ladder {m.groups()}, diagnose gives {got}")
+print(f"ok   the README's ladder {got[0]} -> {got[1]} with {got[2]}")
+PY
+exit $rc
