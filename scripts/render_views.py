@@ -79,7 +79,7 @@ def read_pvd(path):
 
 
 def step_of(file_name):
-    """The step number in a name like blocks_000001200.vtu."""
+    """The step number in a name like blocks_000001200.pvtu."""
     stem = os.path.splitext(os.path.basename(file_name))[0]
     try:
         return int(stem.rsplit("_", 1)[1])
@@ -103,7 +103,8 @@ def pick(entries, step, time, what):
 def read_vtu(path):
     if not os.path.isfile(path):
         raise BadInput(f"'{path}' is listed in its collection but does not exist")
-    r = vtk.vtkXMLUnstructuredGridReader()
+    # A step's .pvtu (its pieces, one per process of the run) or a single piece
+    r = vtk.vtkXMLPUnstructuredGridReader() if path.endswith(".pvtu") else vtk.vtkXMLUnstructuredGridReader()
     r.SetFileName(path)
     r.Update()
     g = r.GetOutput()
@@ -219,7 +220,7 @@ def main(argv):
     p = argparse.ArgumentParser(description="Render the standard views of a rockdem run folder to PNG.")
     p.add_argument("run_dir")
     g = p.add_mutually_exclusive_group()
-    g.add_argument("--step", type=int, help="the output step to draw (as in the .vtu names)")
+    g.add_argument("--step", type=int, help="the output step to draw (as in the .pvtu names)")
     g.add_argument("--time", type=float, help="draw the output nearest this simulated time [s]")
     p.add_argument("--out", help="folder for the PNGs (default RUN_DIR/views)")
     p.add_argument("--stress-component", default="major", choices=["major", "xx", "yy", "xy"],

@@ -8,6 +8,8 @@
 #include <vtkIdTypeArray.h>
 #include <vtkIntArray.h>
 #include <vtkNew.h>
+#include <vtkObjectFactory.h>
+#include <vtkSmartPointer.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkStringArray.h>
@@ -16,17 +18,20 @@
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLDataElement.h>
 #include <vtkXMLDataParser.h>
+#include <vtkXMLPUnstructuredGridWriter.h>
 #include <vtkXMLUnstructuredGridWriter.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <limits>
 #include <stdexcept>
 
 #include "framework/core/error.hpp"
 #include "framework/mechanics/block_stress.hpp"
+#include "framework/model/communication.hpp"
 #include "framework/model/model.hpp"
 
 namespace rockdem {
@@ -68,10 +73,45 @@ vtkNew<vtkPoints> make_points(vtkIdType n) {
 }
 
 // Nine digits: runs reach millions of steps, and padded names keep `ls` and globs in step order.
-std::string step_file(const char* prefix, long step) {
+// The step's summary (.pvtu) and its pieces (_<p>.vtu, the names VTK's parallel writer gives them).
+std::string step_stem(const char* prefix, long step) {
   char buf[64];
-  std::snprintf(buf, sizeof buf, "%s_%09ld.vtu", prefix, step);
+  std::snprintf(buf, sizeof buf, "%s_%09ld", prefix, step);
   return buf;
+}
+std::string piece_file(const std::string& stem, int piece) { return stem + "_" + std::to_string(piece) + ".vtu"; }
+
+// VTK's parallel writer writes the summary (.pvtu) of the pieces it wrote itself, and learns which
+// pieces the other processes wrote through a vtkMultiProcessController's reduction. Here each
+// process writes its own piece with the serial writer and the processes agree on the outcome
+// through rockdem's Communication (a piece that fails inside VTK's writer would leave the others
+// waiting in that reduction), so process 0 only has the summary left to write: this writer
+// writes no piece and declares every one.
+class PvtuSummaryWriter : public vtkXMLPUnstructuredGridWriter {
+ public:
+  static PvtuSummaryWriter* New();
+  vtkTypeMacro(PvtuSummaryWriter, vtkXMLPUnstructuredGridWriter)
+
+ protected:
+  int WritePieceInternal() override { return 1; }
+  void PrepareSummaryFile() override { std::memset(this->PieceWrittenFlags, 1, static_cast<std::size_t>(this->NumberOfPieces)); }
+};
+vtkStandardNewMacro(PvtuSummaryWriter);
+
+// The .pvtu at `path` listing `pieces` pieces <stem>_<p>.vtu beside it, with the arrays of `grid`
+// (a piece: every piece has the same arrays).
+void write_summary(vtkUnstructuredGrid* grid, const std::string& path, int pieces) {
+  vtkNew<PvtuSummaryWriter> w;
+  w->SetController(nullptr);
+  w->SetFileName(path.c_str());
+  w->SetInputData(grid);
+  w->SetNumberOfPieces(pieces);
+  w->SetStartPiece(0);
+  w->SetEndPiece(0);
+  w->SetWriteSummaryFile(1);
+  w->SetDataModeToAppended();
+  w->SetHeaderTypeToUInt64();
+  if (w->Write() != 1) throw std::runtime_error("cannot write VTK file '" + path + "'");
 }
 
 // Entries of an existing .pvd written by write_pvd_collection (the step is taken from the file name).
@@ -148,14 +188,22 @@ void write_pvd_collection(const std::filesystem::path& path, const std::vector<V
 // Array names carry their unit (SI, as in the model: Pa, m, m/s) so that a colour legend in
 // ParaView reads without a manual; integer arrays that are categories have their names in a
 // field-data string array (`group_names`, `state_names`, `joint_names`, `edge_label_names`).
-void write_blocks_vtu(const Model& m, const std::string& path) {
-  const auto np = static_cast<vtkIdType>(m.gp.size());
-  vtkNew<vtkUnstructuredGrid> grid;
+namespace {
+
+// The blocks this process owns (all of a serial model), their gridpoints numbered in model order.
+vtkSmartPointer<vtkUnstructuredGrid> blocks_grid(const Model& m) {
+  std::vector<vtkIdType> local(m.gp.size(), -1);
+  vtkIdType np = 0;
+  for (std::size_t i = 0; i < m.gp.size(); ++i)
+    if (m.part.owns(m.gp[i].block)) local[i] = np++;
+  auto grid = vtkSmartPointer<vtkUnstructuredGrid>::New();
   auto pts = make_points(np);
   auto disp = make_array("displacement_m", 3, np);
   auto vel = make_array("velocity_m_per_s", 3, np);
-  for (vtkIdType i = 0; i < np; ++i) {
-    const GridPoint& g = m.gp[static_cast<std::size_t>(i)];
+  for (std::size_t k = 0; k < m.gp.size(); ++k) {
+    const vtkIdType i = local[k];
+    if (i < 0) continue;
+    const GridPoint& g = m.gp[k];
     pts->SetPoint(i, g.x.x(), g.x.y(), 0.0);
     disp->SetTuple3(i, g.x.x() - g.x0.x(), g.x.y() - g.x0.y(), 0.0);
     vel->SetTuple3(i, g.v.x(), g.v.y(), 0.0);
@@ -166,7 +214,8 @@ void write_blocks_vtu(const Model& m, const std::string& path) {
   grid->GetPointData()->SetActiveVectors("displacement_m");  // the default for Warp By Vector
 
   vtkIdType ncell = 0;
-  for (const Block& b : m.blocks) ncell += b.rigid ? 1 : b.n_zone;
+  for (std::size_t bi = 0; bi < m.blocks.size(); ++bi)
+    if (m.part.owns(static_cast<int>(bi))) ncell += m.blocks[bi].rigid ? 1 : m.blocks[bi].n_zone;
   grid->Allocate(ncell);
   auto stress = make_array("stress_Pa", 6, ncell);
   const char* comp[6] = {"XX", "YY", "ZZ", "XY", "YZ", "XZ"};
@@ -193,6 +242,7 @@ void write_blocks_vtu(const Model& m, const std::string& path) {
   vtkIdType cell = 0;
   for (const Block& b : m.blocks) {
     const auto bi = static_cast<std::size_t>(&b - m.blocks.data());
+    if (!m.part.owns(static_cast<int>(bi))) continue;
     auto tag = [&](vtkIdType c) {
       block_id->SetValue(c, id_value(b.id));
       block_name->SetValue(c, b.name);
@@ -201,7 +251,8 @@ void write_blocks_vtu(const Model& m, const std::string& path) {
       process->SetValue(c, m.part.decomposed() ? m.part.owner[bi] : 0);
     };
     if (b.rigid) {
-      ids.assign(b.boundary.begin(), b.boundary.end());
+      ids.clear();
+      for (int g : b.boundary) ids.push_back(local[static_cast<std::size_t>(g)]);
       grid->InsertNextCell(VTK_POLYGON, static_cast<vtkIdType>(ids.size()), ids.data());
       // Before the first step no force has been computed: not known yet either.
       const bool known = block_stress_known(b) && m.step > 0;
@@ -213,7 +264,8 @@ void write_blocks_vtu(const Model& m, const std::string& path) {
     }
     for (int z = b.first_zone; z < b.first_zone + b.n_zone; ++z) {
       const Zone& zn = m.zones[static_cast<std::size_t>(z)];
-      const vtkIdType tri[3] = {zn.n[0], zn.n[1], zn.n[2]};
+      const vtkIdType tri[3] = {local[static_cast<std::size_t>(zn.n[0])], local[static_cast<std::size_t>(zn.n[1])],
+                                local[static_cast<std::size_t>(zn.n[2])]};
       grid->InsertNextCell(VTK_TRIANGLE, 3, tri);
       const double s[6] = {zn.stress[0], zn.stress[1], zn.szz, zn.stress[2], 0.0, 0.0};
       stress->SetTuple(cell, s);
@@ -230,13 +282,16 @@ void write_blocks_vtu(const Model& m, const std::string& path) {
   grid->GetCellData()->AddArray(process);
   grid->GetFieldData()->AddArray(name_list("group_names", m.contacts.group_names));
   grid->GetFieldData()->AddArray(name_list("stress_from_names", {"none (held rigid block)", "zone", "rigid block boundary forces"}));
-  write_grid(grid, path);
+  return grid;
 }
 
-void write_contacts_vtu(const Model& m, const std::string& path) {
-  const auto& items = m.contacts.items;
+// The contacts this process owns (those of its blocks' points; every contact of a serial model).
+vtkSmartPointer<vtkUnstructuredGrid> contacts_grid(const Model& m) {
+  std::vector<const Contact*> items;
+  for (const Contact& c : m.contacts.items)
+    if (m.part.owns(m.gp[static_cast<std::size_t>(c.point)].block)) items.push_back(&c);
   const auto n = static_cast<vtkIdType>(items.size());
-  vtkNew<vtkUnstructuredGrid> grid;
+  auto grid = vtkSmartPointer<vtkUnstructuredGrid>::New();
   auto pts = make_points(n);
   auto sn = make_array("normal_stress_Pa", 1, n);
   auto ss = make_array("shear_stress_Pa", 1, n);
@@ -257,7 +312,7 @@ void write_contacts_vtu(const Model& m, const std::string& path) {
   vtkNew<vtkIdTypeArray> conn;
   conn->SetNumberOfValues(2 * n);
   for (vtkIdType i = 0; i < n; ++i) {
-    const Contact& c = items[static_cast<std::size_t>(i)];
+    const Contact& c = *items[static_cast<std::size_t>(i)];
     const Vec2& x = m.gp[static_cast<std::size_t>(c.point)].x;
     pts->SetPoint(i, x.x(), x.y(), 0.0);
     sn->SetValue(i, c.response.sigma_n);
@@ -297,8 +352,14 @@ void write_contacts_vtu(const Model& m, const std::string& path) {
   fd->AddArray(name_list("joint_names", m.contacts.model_names));
   fd->AddArray(edge_label_names(m));
   pd->SetActiveVectors("normal");  // the default orientation for Glyph
-  write_grid(grid, path);
+  return grid;
 }
+
+}  // namespace
+
+void write_blocks_vtu(const Model& m, const std::string& path) { write_grid(blocks_grid(m), path); }
+
+void write_contacts_vtu(const Model& m, const std::string& path) { write_grid(contacts_grid(m), path); }
 
 VtkSeries::VtkSeries(std::filesystem::path dir, bool contacts) : dir_(std::move(dir)), write_contacts_(contacts) {
   std::error_code ec;
@@ -306,18 +367,49 @@ VtkSeries::VtkSeries(std::filesystem::path dir, bool contacts) : dir_(std::move(
   if (ec) throw InputError("cannot create output folder '" + dir_.string() + "': " + ec.message());
 }
 
-void VtkSeries::write(const Model& m) {
-  const std::string bf = step_file("blocks", m.step);
-  write_blocks_vtu(m, (dir_ / bf).string());
-  upsert(blocks_, {m.time, m.step, bf});
-  if (write_contacts_) {
-    const std::string cf = step_file("contacts", m.step);
-    write_contacts_vtu(m, (dir_ / cf).string());
-    upsert(contacts_, {m.time, m.step, cf});
+void VtkSeries::write(const Model& m) { write(m, Communication()); }
+
+void VtkSeries::write(const Model& m, const Communication& comm) {
+  // A decomposed run writes one piece per process; a serial one (or a model not decomposed among
+  // several processes: process 0's) one piece.
+  const bool parallel = m.part.decomposed();
+  if (!parallel && !comm.root()) return;
+  const int pieces = parallel ? comm.size() : 1, piece = parallel ? comm.rank() : 0;
+  auto agree = [&](const std::string& error) {
+    const std::string first = parallel ? comm.first_message(error) : error;
+    if (!first.empty()) throw std::runtime_error(first);
+  };
+  const std::string bs = step_stem("blocks", m.step), cs = step_stem("contacts", m.step);
+  vtkSmartPointer<vtkUnstructuredGrid> blocks, contacts;
+  std::string error;
+  try {
+    blocks = blocks_grid(m);
+    write_grid(blocks, (dir_ / piece_file(bs, piece)).string());
+    if (write_contacts_) {
+      contacts = contacts_grid(m);
+      write_grid(contacts, (dir_ / piece_file(cs, piece)).string());
+    }
+  } catch (const std::exception& e) {
+    error = e.what();
   }
-  // Only after the .vtu files are complete, so the collection never lists a partial file.
-  write_pvd_collection(dir_ / "blocks.pvd", blocks_);
-  if (write_contacts_) write_pvd_collection(dir_ / "contacts.pvd", contacts_);
+  agree(error);
+  // Only after every piece is complete (the agreement above), so that neither the summary nor the
+  // collection ever lists a partial file.
+  upsert(blocks_, {m.time, m.step, bs + ".pvtu"});
+  if (write_contacts_) upsert(contacts_, {m.time, m.step, cs + ".pvtu"});
+  if (comm.root()) {
+    try {
+      write_summary(blocks, (dir_ / (bs + ".pvtu")).string(), pieces);
+      write_pvd_collection(dir_ / "blocks.pvd", blocks_);
+      if (write_contacts_) {
+        write_summary(contacts, (dir_ / (cs + ".pvtu")).string(), pieces);
+        write_pvd_collection(dir_ / "contacts.pvd", contacts_);
+      }
+    } catch (const std::exception& e) {
+      error = e.what();
+    }
+  }
+  agree(error);
 }
 
 void VtkSeries::resume(double time) {

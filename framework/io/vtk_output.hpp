@@ -1,8 +1,11 @@
 #pragma once
-// VTK output for ParaView: per output step, blocks_<step>.vtu and contacts_<step>.vtu (XML
-// unstructured grids, binary appended, zlib-compressed), plus blocks.pvd and contacts.pvd
-// collections listing every step with its time. The .pvd files are rewritten after each step so
-// that an interrupted run still opens in ParaView.
+// VTK output for ParaView: per output step, blocks_<step>.pvtu and contacts_<step>.pvtu, each a
+// parallel unstructured grid whose pieces blocks_<step>_<p>.vtu (XML unstructured grids, binary
+// appended, zlib-compressed) are written by the processes of the run, one each (process p: the
+// blocks it owns and the contacts of their points; a serial run writes one piece, _0), plus
+// blocks.pvd and contacts.pvd collections listing every step's .pvtu with its time. No process
+// gathers the model for a field output. The .pvd files are rewritten after each step so that an
+// interrupted run still opens in ParaView.
 //
 // Array names carry their unit (SI); integer categories have their names in field-data string
 // arrays. docs/user-guide-output.md lists them for users.
@@ -32,6 +35,7 @@
 namespace rockdem {
 
 struct Model;
+class Communication;
 
 class VtkSeries {
  public:
@@ -45,8 +49,11 @@ class VtkSeries {
   explicit VtkSeries(std::filesystem::path dir, bool contacts = true);
 
   // Writes one output step of `m` (at m.time, m.step) and rewrites the .pvd files. Writing the
-  // same step twice replaces its entry (e.g. the final state after a periodic output).
-  void write(const Model& m);
+  // same step twice replaces its entry (e.g. the final state after a periodic output). In a
+  // decomposed run every process calls it (each writes its piece; process 0 then the .pvtu and
+  // .pvd files); a failure on any process is raised on all of them.
+  void write(const Model& m, const Communication& comm);
+  void write(const Model& m);  // a serial model: one piece
 
   // After a restart at `time`: keep the steps of an earlier run in `dir` up to `time` (read from
   // its blocks.pvd/contacts.pvd if present) so that the collection covers the whole history.
@@ -62,9 +69,11 @@ class VtkSeries {
   std::vector<Entry> blocks_, contacts_;
 };
 
-// The two grids as standalone writers (used by VtkSeries; handy for one-off snapshots).
+// The two grids as standalone writers (used by VtkSeries; handy for one-off snapshots): the
+// blocks this process owns (every block of a serial model) and the contacts of their points.
 void write_blocks_vtu(const Model& m, const std::string& path);
 void write_contacts_vtu(const Model& m, const std::string& path);
+
 
 // Named fields for results that are not the model's own state (the drift study's joints and
 // blocks, docs/drift-study.md): one value per point or per block, in the order given.

@@ -324,9 +324,8 @@ long contact_count(const Run& r) {
   return static_cast<long>(n);
 }
 
-void write_vtk(Run& r) {
-  with_whole_model(r, [&] { r.vtk.write(r.c.model); });
-}
+// Every process writes its own piece (VtkSeries::write): no collect.
+void write_vtk(Run& r) { r.vtk.write(r.c.model, r.comm); }
 
 // The state boundary conditions carry from stage to stage (forces held by quiet boundaries, the
 // free field's motion), by the condition's position in the case.
@@ -554,10 +553,8 @@ InstabilityError stopped_unstable(Run& r, const InstabilityError& e) {
   r.progress.end_line();
   r.engine.restore(r.engine.last_good());
   const auto path = (r.out / "last_good_state.h5").string();
-  with_whole_model(r, [&] {
-    write_checkpoint(r.c.model, path);
-    r.vtk.write(r.c.model);
-  });
+  write_vtk(r);
+  with_whole_model(r, [&] { write_checkpoint(r.c.model, path); });
   r.rec.close();
   // The joint record up to here is kept, marked incomplete.
   std::string record;

@@ -71,19 +71,29 @@ run_case direct_shear "$src/cases/direct_shear/test09_mohr_coulomb.toml" --stage
 run_case incline "$src/cases/sliding_block/incline.toml"         # two blocks: more processes than blocks
 run_case free_field "$src/cases/verification/free_field/column.toml" --no-plots   # earthquake: compliant base, free field, energy
 
-# The VTK fields say which process computed each block and contact.
+# The VTK fields: one piece per process, written by that process, their .pvtu read as ParaView
+# reads it: the serial run's cells and contacts, each with the process that computed it.
 if "$py" -c "import vtk" 2>/dev/null; then
-  if r=$("$py" - "$tmp/collapse-3/vtk" <<'PY'
-import sys, glob, vtk
+  if r=$("$py" - "$tmp/collapse-1/vtk" "$tmp/collapse-3/vtk" <<'PY'
+import sys, glob, os, vtk
 from vtk.util.numpy_support import vtk_to_numpy
-reader = vtk.vtkXMLUnstructuredGridReader()
-reader.SetFileName(sorted(glob.glob(sys.argv[1] + "/blocks_*.vtu"))[-1])
-reader.Update()
-p = sorted(set(vtk_to_numpy(reader.GetOutput().GetCellData().GetArray("process")).tolist()))
-print(p)
-sys.exit(0 if p == [0, 1, 2] else 1)
+def last(d, which):
+    r = vtk.vtkXMLPUnstructuredGridReader()
+    r.SetFileName(sorted(glob.glob(d + "/" + which + "_*.pvtu"))[-1])
+    r.Update()
+    return r.GetOutput()
+serial, three = sys.argv[1], sys.argv[2]
+ok = True
+for which, data in (("blocks", "GetCellData"), ("contacts", "GetPointData")):
+    a, b = last(serial, which), last(three, which)
+    p = sorted(set(vtk_to_numpy(getattr(b, data)().GetArray("process")).tolist()))
+    pieces = len(glob.glob(three + "/" + which + "_*_[0-9].vtu")) // len(glob.glob(three + "/" + which + "_*.pvtu"))
+    same = (a.GetNumberOfCells(), a.GetNumberOfPoints()) == (b.GetNumberOfCells(), b.GetNumberOfPoints())
+    print(f"{which}: processes {p}, {pieces} pieces per step, {b.GetNumberOfCells()} cells as in the serial run: {same}")
+    ok = ok and p == [0, 1, 2] and pieces == 3 and same
+sys.exit(0 if ok else 1)
 PY
-  ); then echo "ok   the VTK blocks carry the process that computed them: $r"; else echo "FAIL VTK process field: $r"; fail=1; fi
+  ); then echo "ok   VTK pieces per process: $r"; else echo "FAIL VTK pieces: $r"; fail=1; fi
 fi
 
 # A restart on another process count: the checkpoint of the 2-process run's first stage,

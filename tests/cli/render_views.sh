@@ -137,8 +137,8 @@ else
   r=$("$py" - "$out" "$tmp/mass/vtk" <<'PY'
 import glob, re, sys, vtk
 out, vdir = sys.argv[1], sys.argv[2]
-reader = vtk.vtkXMLUnstructuredGridReader()
-reader.SetFileName(sorted(glob.glob(vdir + "/contacts_*.vtu"))[-1])
+reader = vtk.vtkXMLPUnstructuredGridReader()
+reader.SetFileName(sorted(glob.glob(vdir + "/contacts_*.pvtu"))[-1])
 reader.Update()
 n = reader.GetOutput().GetNumberOfPoints()
 m = re.search(r"(\d+) contact points: (\d+) elastic, (\d+) slipping, (\d+) open", out)

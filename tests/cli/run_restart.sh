@@ -63,9 +63,9 @@ for f in history.h5 final_state.h5 manifest.json stage_2_slide.h5 vtk/blocks.pvd
 done
 [ -f "$tmp/same/stage_1_settle.h5" ] && [ -f "$tmp/same/stage_2_slide.h5" ] || bad "stage checkpoints missing after the restart"
 # The earlier frames after the restart's step were set aside, those up to it stayed.
-aside=$(ls "$tmp/same/before_restart_1/vtk" | grep -c '\.vtu$')
-kept=$(ls "$tmp/same/vtk" | grep -c '\.vtu$')
-all=$(ls "$tmp/full/vtk" | grep -c '\.vtu$')
+aside=$(ls "$tmp/same/before_restart_1/vtk" | grep -c '\.pvtu$')
+kept=$(ls "$tmp/same/vtk" | grep -c '\.pvtu$')
+all=$(ls "$tmp/full/vtk" | grep -c '\.pvtu$')
 [ "$aside" -gt 0 ] && [ "$kept" -eq "$all" ] && ok "VTK frames: $aside of the earlier run's set aside, the series complete again ($kept)" ||
   bad "VTK frames: $aside set aside, $kept in vtk/ (the uninterrupted run has $all)"
 cmp -s "$tmp/full/history.h5" "$tmp/same/before_restart_1/history.h5" && ok "the earlier run's files kept in before_restart_1/" ||

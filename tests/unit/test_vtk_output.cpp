@@ -1,5 +1,6 @@
-// VTK output read back with VTK's own reader: cell kinds and counts, point/cell arrays, contact
-// vertices and their data, and the .pvd collections listing every step (also after a resume).
+// VTK output read back with VTK's own readers: cell kinds and counts, point/cell arrays, contact
+// vertices and their data, the .pvd collections listing every step (also after a resume), and the
+// .pvtu of a decomposed run's pieces, one per process.
 #include <gtest/gtest.h>
 #include <unistd.h>
 #include <vtkCellData.h>
@@ -11,6 +12,7 @@
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLDataElement.h>
 #include <vtkXMLDataParser.h>
+#include <vtkXMLPUnstructuredGridReader.h>
 #include <vtkXMLUnstructuredGridReader.h>
 
 #include <cmath>
@@ -21,6 +23,8 @@
 
 #include "framework/io/vtk_output.hpp"
 #include "framework/mechanics/block_stress.hpp"
+#include "framework/model/communication.hpp"
+#include "framework/model/partition.hpp"
 #include "io_test_model.hpp"
 
 namespace fs = std::filesystem;
@@ -34,7 +38,14 @@ fs::path temp_dir(const std::string& name) {
   return d;
 }
 
+// A piece (.vtu) or a step's summary of its pieces (.pvtu), as ParaView reads them.
 vtkSmartPointer<vtkUnstructuredGrid> read_vtu(const fs::path& p) {
+  if (p.extension() == ".pvtu") {
+    vtkNew<vtkXMLPUnstructuredGridReader> r;
+    r->SetFileName(p.string().c_str());
+    r->Update();
+    return r->GetOutput();
+  }
   vtkNew<vtkXMLUnstructuredGridReader> r;
   r->SetFileName(p.string().c_str());
   r->Update();
@@ -72,8 +83,9 @@ TEST(VtkOutput, BlocksAndContactsReadBackWithValues) {
   VtkSeries vtk(dir);
   vtk.write(m);
 
-  const fs::path bf = dir / "blocks_000000100.vtu";
+  const fs::path bf = dir / "blocks_000000100_0.vtu";  // the one piece of a serial model
   ASSERT_TRUE(fs::exists(bf));
+  ASSERT_TRUE(fs::exists(dir / "blocks_000000100.pvtu"));
   {  // binary appended and compressed, as asked of the writer
     std::ifstream in(bf, std::ios::binary);
     std::string head(512, '\0');
@@ -81,7 +93,7 @@ TEST(VtkOutput, BlocksAndContactsReadBackWithValues) {
     EXPECT_NE(head.find("vtkZLibDataCompressor"), std::string::npos);
     EXPECT_NE(head.find("format=\"appended\""), std::string::npos);
   }
-  auto g = read_vtu(bf);
+  auto g = read_vtu(dir / "blocks_000000100.pvtu");
   ASSERT_EQ(g->GetNumberOfPoints(), 8);
   ASSERT_EQ(g->GetNumberOfCells(), 3);  // one polygon (rigid) + two triangles (zones)
   EXPECT_EQ(g->GetCellType(0), VTK_POLYGON);
@@ -147,7 +159,7 @@ TEST(VtkOutput, BlocksAndContactsReadBackWithValues) {
   ASSERT_EQ(gnames->GetNumberOfValues(), 2);
   EXPECT_EQ(gnames->GetValue(1), "top");
 
-  auto c = read_vtu(dir / "contacts_000000100.vtu");
+  auto c = read_vtu(dir / "contacts_000000100.pvtu");
   ASSERT_EQ(c->GetNumberOfPoints(), 3);
   ASSERT_EQ(c->GetNumberOfCells(), 3);
   EXPECT_EQ(c->GetCellType(2), VTK_VERTEX);
@@ -176,7 +188,7 @@ TEST(VtkOutput, BlocksAndContactsReadBackWithValues) {
     m.blocks[0].fixed = true;
     m.step = 101;
     vtk.write(m);
-    auto held = read_vtu(dir / "blocks_000000101.vtu");
+    auto held = read_vtu(dir / "blocks_000000101.pvtu");
     EXPECT_TRUE(std::isnan(held->GetCellData()->GetArray("stress_Pa")->GetComponent(0, 1)));
     EXPECT_EQ(held->GetCellData()->GetArray("stress_from")->GetComponent(0, 0), 0);
     EXPECT_EQ(held->GetCellData()->GetArray("stress_from")->GetComponent(1, 0), 1);
@@ -218,10 +230,10 @@ TEST(VtkOutput, PvdListsEveryStepAndSurvivesResume) {
     EXPECT_EQ(e[0].time, 0.0);
     EXPECT_EQ(e[1].time, 0.125);
     EXPECT_EQ(e[2].time, 0.25);
-    EXPECT_EQ(e[1].file, std::string(which) + "_000000250.vtu");
+    EXPECT_EQ(e[1].file, std::string(which) + "_000000250.pvtu");
     for (const auto& x : e) EXPECT_TRUE(fs::exists(dir / x.file)) << x.file;
   }
-  EXPECT_EQ(read_vtu(dir / "contacts_000000250.vtu")->GetNumberOfPoints(), 2);
+  EXPECT_EQ(read_vtu(dir / "contacts_000000250.pvtu")->GetNumberOfPoints(), 2);
 
   // Restart from the checkpoint at t = 0.125: steps after it are dropped, new ones appended.
   VtkSeries again(dir);
@@ -234,6 +246,57 @@ TEST(VtkOutput, PvdListsEveryStepAndSurvivesResume) {
   const auto e = read_pvd(dir / "blocks.pvd");
   ASSERT_EQ(e.size(), 3u);
   EXPECT_EQ(e[2].time, 0.2);
-  EXPECT_EQ(e[2].file, "blocks_000000400.vtu");
+  EXPECT_EQ(e[2].file, "blocks_000000400.pvtu");
+  fs::remove_all(dir);
+}
+
+namespace {
+// The processes of a decomposed run, one at a time: what VtkSeries asks of the communication.
+struct OneOfThree : Communication {
+  int r = 0;
+  int rank() const override { return r; }
+  int size() const override { return 3; }
+};
+}  // namespace
+
+// A decomposed run: each process writes the blocks it owns and the contacts of their points as
+// its piece; the step's .pvtu lists every piece (process 2 owns nothing here: an empty piece),
+// and read through it the output is the serial one, each cell and contact tagged with its process.
+TEST(VtkOutput, EachProcessWritesItsPieceAndTheSummaryListsThemAll) {
+  const fs::path serial_dir = temp_dir("serial_pieces"), dir = temp_dir("pieces");
+  Model m = test::make_io_test_model();
+  test::fill_io_test_state(m, 1.0);
+  m.step = 7;
+  VtkSeries(serial_dir).write(m);
+  const std::vector<int> owner{1, 0};  // the rigid block on process 1, the deformable one on 0
+  ASSERT_EQ(m.blocks.size(), owner.size());
+  VtkSeries vtk(dir);
+  OneOfThree comm;
+  for (int r : {2, 1, 0}) {  // process 0 last: it writes the summary once the pieces are there
+    assign_owners(m, owner, r);
+    comm.r = r;
+    vtk.write(m, comm);
+  }
+  for (int r = 0; r < 3; ++r) EXPECT_TRUE(fs::exists(dir / ("blocks_000000007_" + std::to_string(r) + ".vtu"))) << r;
+  EXPECT_EQ(read_vtu(dir / "blocks_000000007_2.vtu")->GetNumberOfCells(), 0);
+  EXPECT_EQ(read_vtu(dir / "blocks_000000007_1.vtu")->GetNumberOfCells(), 1);  // the rigid block's polygon
+  EXPECT_EQ(read_vtu(dir / "blocks_000000007_0.vtu")->GetNumberOfCells(), 2);  // the two zones
+  for (const char* which : {"blocks", "contacts"}) {
+    const std::string name = std::string(which) + "_000000007.pvtu";
+    auto whole = read_vtu(dir / name);
+    auto one = read_vtu(serial_dir / name);
+    EXPECT_EQ(whole->GetNumberOfPoints(), one->GetNumberOfPoints()) << which;
+    EXPECT_EQ(whole->GetNumberOfCells(), one->GetNumberOfCells()) << which;
+  }
+  auto blocks = read_vtu(dir / "blocks_000000007.pvtu");
+  vtkDataArray* proc = blocks->GetCellData()->GetArray("process");
+  vtkDataArray* id = blocks->GetCellData()->GetArray("block_id");
+  ASSERT_NE(proc, nullptr);
+  for (vtkIdType c = 0; c < blocks->GetNumberOfCells(); ++c) {
+    const bool first = id->GetComponent(c, 0) == id_value(m.blocks[0].id);
+    EXPECT_EQ(proc->GetComponent(c, 0), first ? owner[0] : owner[1]) << c;
+  }
+  EXPECT_EQ(read_pvd(dir / "blocks.pvd").at(0).file, "blocks_000000007.pvtu");
+  fs::remove_all(serial_dir);
   fs::remove_all(dir);
 }
