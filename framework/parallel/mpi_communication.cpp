@@ -21,6 +21,8 @@
 namespace rockdem {
 namespace {
 
+constexpr int kTagBorders = 8;  // borders(): box counts, then boxes, between processes whose domains meet
+
 // A block's box, grown by the margin, as CGAL's box intersection takes it, with the block's position.
 using BlockBox = CGAL::Box_intersection_d::Box_with_info_d<double, 2, int>;
 
@@ -126,21 +128,23 @@ MpiCommunication::MpiCommunication() {
 }
 
 std::string MpiCommunication::time_report() const {
-  const double mine[7] = {MPI_Wtime() - started_, spent_.borders, spent_.forward, spent_.reduce, spent_.collect,
+  const double mine[8] = {MPI_Wtime() - started_, spent_.borders, spent_.forward, spent_.reduce, spent_.collect,
                           forwards_ > 0 ? forward_bytes_ / static_cast<double>(forwards_) : 0.0,
-                          static_cast<double>(borders_done_)};
-  std::vector<double> all(7 * static_cast<std::size_t>(size_));
-  MPI_Gather(mine, 7, MPI_DOUBLE, all.data(), 7, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+                          static_cast<double>(borders_done_),
+                          borders_done_ > 0 ? boxes_received_ / static_cast<double>(borders_done_) : 0.0};
+  std::vector<double> all(8 * static_cast<std::size_t>(size_));
+  MPI_Gather(mine, 8, MPI_DOUBLE, all.data(), 8, MPI_DOUBLE, 0, MPI_COMM_WORLD);
   if (rank_ != 0) return {};
   std::ostringstream os;
   os.setf(std::ios::fixed);
   os.precision(2);
   os << "time in communication (exchanging and waiting), by process:";
   for (int r = 0; r < size_; ++r) {
-    const double* t = &all[7 * static_cast<std::size_t>(r)];
+    const double* t = &all[8 * static_cast<std::size_t>(r)];
     const double comm = t[1] + t[2] + t[3] + t[4];
     os << "\n  process " << r << ": " << comm << " s of " << t[0] << " s (" << 100.0 * comm / t[0] << " %): borders " << t[1]
-       << " s (ghosts found " << static_cast<long>(t[6]) << " times of " << borders_done_ + borders_skipped_ << "), forward " << t[2] << " s (" << t[5] / 1024.0 << " KiB sent a step), reductions " << t[3] << " s, collect "
+       << " s (ghosts found " << static_cast<long>(t[6]) << " times of " << borders_done_ + borders_skipped_ << ", "
+       << static_cast<long>(t[7]) << " boxes of other processes' blocks received each time), forward " << t[2] << " s (" << t[5] / 1024.0 << " KiB sent a step), reductions " << t[3] << " s, collect "
        << t[4] << " s";
   }
   return os.str();
@@ -245,25 +249,63 @@ void MpiCommunication::borders(Model& m, double margin) {
     for (int g : m.blocks[static_cast<std::size_t>(b)].boundary) anchor_.push_back(m.gp[static_cast<std::size_t>(g)].x);
   anchor_blocks_ = p.owned_blocks;
   anchor_margin_ = margin;
-  // Every process's boxes of its own blocks, to every process: [block, lo x, lo y, hi x, hi y].
-  std::vector<double> mine;
-  mine.reserve(5 * p.owned_blocks.size());
-  for (int b : p.owned_blocks) {
-    const BlockBox box = block_box(m, b, margin);
-    mine.insert(mine.end(), {static_cast<double>(b), box.min_coord(0), box.min_coord(1), box.max_coord(0), box.max_coord(1)});
-  }
-  const int count = static_cast<int>(mine.size());
-  std::vector<int> counts(static_cast<std::size_t>(size_)), displs(static_cast<std::size_t>(size_), 0);
-  MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD);
-  for (int r = 1; r < size_; ++r) displs[static_cast<std::size_t>(r)] = displs[static_cast<std::size_t>(r) - 1] + counts[static_cast<std::size_t>(r) - 1];
-  std::vector<double> all(static_cast<std::size_t>(displs.back() + counts.back()));
-  MPI_Allgatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE, MPI_COMM_WORLD);
+  // The boxes of this process's blocks, and its domain: the box around them all. Only processes
+  // whose domains meet exchange boxes, and each sends only those of its boxes that meet the
+  // other's domain (a box of theirs that overlaps one of ours meets our domain, so no pair with
+  // one of our blocks is missed: the pairs, and so the ghosts, are those that sending every box
+  // to every process finds, at a cost that follows the partition's boundary, not the model's
+  // size). Sent as [block, lo x, lo y, hi x, hi y].
   std::vector<BlockBox> boxes;
-  boxes.reserve(all.size() / 5);
-  for (std::size_t k = 0; k < all.size(); k += 5) {
-    double lo[2] = {all[k + 1], all[k + 2]}, hi[2] = {all[k + 3], all[k + 4]};
-    boxes.emplace_back(lo, hi, static_cast<int>(all[k]));
+  boxes.reserve(p.owned_blocks.size());
+  double domain[4] = {std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),
+                      -std::numeric_limits<double>::max(), -std::numeric_limits<double>::max()};
+  for (int b : p.owned_blocks) {
+    boxes.push_back(block_box(m, b, margin));
+    const BlockBox& box = boxes.back();
+    domain[0] = std::min(domain[0], box.min_coord(0));
+    domain[1] = std::min(domain[1], box.min_coord(1));
+    domain[2] = std::max(domain[2], box.max_coord(0));
+    domain[3] = std::max(domain[3], box.max_coord(1));
   }
+  std::vector<double> domains(4 * static_cast<std::size_t>(size_));
+  MPI_Allgather(domain, 4, MPI_DOUBLE, domains.data(), 4, MPI_DOUBLE, MPI_COMM_WORLD);
+  auto meets = [](const double* d, double x0, double y0, double x1, double y1) {  // closed boxes
+    return d[0] <= x1 && x0 <= d[2] && d[1] <= y1 && y0 <= d[3];
+  };
+  std::vector<int> near;  // the other processes whose domains meet ours (empty ones meet none)
+  for (int r = 0; r < size_; ++r)
+    if (r != rank_ && meets(&domains[4 * static_cast<std::size_t>(r)], domain[0], domain[1], domain[2], domain[3]))
+      near.push_back(r);
+  const std::size_t own = boxes.size();
+  std::vector<std::vector<double>> out(near.size()), in(near.size());
+  std::vector<int> out_n(near.size()), in_n(near.size());
+  for (std::size_t k = 0; k < near.size(); ++k) {
+    const double* d = &domains[4 * static_cast<std::size_t>(near[k])];
+    for (std::size_t i = 0; i < own; ++i) {
+      const BlockBox& b = boxes[i];
+      if (meets(d, b.min_coord(0), b.min_coord(1), b.max_coord(0), b.max_coord(1)))
+        out[k].insert(out[k].end(), {static_cast<double>(b.info()), b.min_coord(0), b.min_coord(1), b.max_coord(0), b.max_coord(1)});
+    }
+    out_n[k] = static_cast<int>(out[k].size());
+  }
+  std::vector<MPI_Request> req(2 * near.size());
+  for (std::size_t k = 0; k < near.size(); ++k) {
+    MPI_Irecv(&in_n[k], 1, MPI_INT, near[k], kTagBorders, MPI_COMM_WORLD, &req[2 * k]);
+    MPI_Isend(&out_n[k], 1, MPI_INT, near[k], kTagBorders, MPI_COMM_WORLD, &req[2 * k + 1]);
+  }
+  MPI_Waitall(static_cast<int>(req.size()), req.data(), MPI_STATUSES_IGNORE);
+  for (std::size_t k = 0; k < near.size(); ++k) {
+    in[k].resize(static_cast<std::size_t>(in_n[k]));
+    MPI_Irecv(in[k].data(), in_n[k], MPI_DOUBLE, near[k], kTagBorders, MPI_COMM_WORLD, &req[2 * k]);
+    MPI_Isend(out[k].data(), out_n[k], MPI_DOUBLE, near[k], kTagBorders, MPI_COMM_WORLD, &req[2 * k + 1]);
+  }
+  MPI_Waitall(static_cast<int>(req.size()), req.data(), MPI_STATUSES_IGNORE);
+  for (const auto& v : in)
+    for (std::size_t k = 0; k + 4 < v.size(); k += 5) {
+      double lo[2] = {v[k + 1], v[k + 2]}, hi[2] = {v[k + 3], v[k + 4]};
+      boxes.emplace_back(lo, hi, static_cast<int>(v[k]));
+    }
+  boxes_received_ += static_cast<double>(boxes.size() - own);
   // Pairs across two processes, one of them this one: the other's block is a ghost here, ours a
   // ghost there. Both sides find the same pairs from the same boxes, so the lists agree.
   std::map<int, std::pair<std::set<int>, std::set<int>>> lists;  // rank -> (send, recv)

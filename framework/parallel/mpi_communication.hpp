@@ -57,6 +57,7 @@ class MpiCommunication final : public Communication {
   std::vector<int> anchor_blocks_;
   double anchor_margin_ = 0.0;
   long borders_skipped_ = 0, borders_done_ = 0;
+  double boxes_received_ = 0.0;  // other processes' block boxes received by borders(), in all
 };
 
 // The communication of this process: an MpiCommunication when started by mpirun on more than one
