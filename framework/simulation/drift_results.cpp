@@ -270,16 +270,26 @@ void DriftResults::stage_ended(const Model& m, std::size_t index, double ratio) 
     area[i] = std::abs(signed_area(p));
   }
   // Each block's centroid displacement since the reference (NaN for a block made since), and
-  // the blocks that moved towards the drift by more than fall_displacement.
+  // the blocks that are, at this stage's end, further than fall_displacement from where they were
+  // and nearer the drift. A block counted before that has come back within that distance is no
+  // longer counted (in the drift comparison a Continuously-Yielding block was 50 mm out at the
+  // end of a rest, counted, and 43 mm out after the next stage, settled against its neighbours);
+  // one that goes out again is counted from that stage. A block no longer in the model stays.
   std::vector<Vec2> moved(m.blocks.size(), Vec2::Constant(kNaN));
+  std::vector<char> out(m.blocks.size(), 0);
   for (std::size_t i = 0; i < m.blocks.size(); ++i) {
-    const Block& b = m.blocks[i];
-    const auto r = ref_.centroids.find(b.id);
+    const auto r = ref_.centroids.find(m.blocks[i].id);
     if (r == ref_.centroids.end()) continue;
     moved[i] = centroid[i] - r->second;
-    if (has_fallen(b.id)) continue;
-    if (moved[i].norm() > d.fall_displacement && (centroid[i] - centre_).norm() < (r->second - centre_).norm())
-      fallen_.push_back({b.id, b.name, area[i], moved[i].norm(), index + 1});
+    out[i] = moved[i].norm() > d.fall_displacement && (centroid[i] - centre_).norm() < (r->second - centre_).norm();
+  }
+  std::erase_if(fallen_, [&](const Fallen& f) {
+    const auto it = position.find(f.id);
+    return it != position.end() && !out[static_cast<std::size_t>(it->second)];
+  });
+  for (std::size_t i = 0; i < m.blocks.size(); ++i) {
+    const Block& b = m.blocks[i];
+    if (out[i] && !has_fallen(b.id)) fallen_.push_back({b.id, b.name, area[i], moved[i].norm(), index + 1});
   }
   double fallen_area = 0.0;
   for (Fallen& f : fallen_) {
