@@ -5,6 +5,7 @@
 #include <vtkDataSetAttributes.h>
 #include <vtkCellType.h>
 #include <vtkDoubleArray.h>
+#include <vtkErrorCode.h>
 #include <vtkIdTypeArray.h>
 #include <vtkIntArray.h>
 #include <vtkNew.h>
@@ -62,7 +63,9 @@ void write_grid(vtkUnstructuredGrid* grid, const std::string& path) {
   w->EncodeAppendedDataOff();  // raw binary: smaller and faster than base64
   w->SetCompressorTypeToZLib();
   w->SetHeaderTypeToUInt64();  // no 4 GiB limit on a block of appended data
-  if (w->Write() != 1) throw std::runtime_error("cannot write VTK file '" + path + "'");
+  // Write() returns 1 also when the file cannot be opened or the disk fills: the error code says.
+  if (w->Write() != 1 || w->GetErrorCode() != vtkErrorCode::NoError)
+    throw std::runtime_error("cannot write VTK file '" + path + "'");
 }
 
 vtkNew<vtkPoints> make_points(vtkIdType n) {
@@ -111,7 +114,8 @@ void write_summary(vtkUnstructuredGrid* grid, const std::string& path, int piece
   w->SetWriteSummaryFile(1);
   w->SetDataModeToAppended();
   w->SetHeaderTypeToUInt64();
-  if (w->Write() != 1) throw std::runtime_error("cannot write VTK file '" + path + "'");
+  if (w->Write() != 1 || w->GetErrorCode() != vtkErrorCode::NoError)
+    throw std::runtime_error("cannot write VTK file '" + path + "'");
 }
 
 // Entries of an existing .pvd written by write_pvd_collection (the step is taken from the file name).

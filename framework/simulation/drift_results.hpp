@@ -30,7 +30,7 @@ class DriftResults {
   // results (from the reference stage on; earlier stages are ignored).
   void stage_ended(const Model& m, std::size_t index, double ratio);
 
-  // What a stage checkpoint carries: the reference state and the blocks found fallen so far.
+  // What a stage checkpoint carries: the reference state and the blocks counted as fallen now.
   CheckpointArrays saved_state() const;
   // Read back from a stage checkpoint's arrays; the rows of events.csv written before it are kept.
   void restore_state(const CheckpointArrays& a, std::size_t stages_completed);
@@ -45,7 +45,7 @@ class DriftResults {
   const std::vector<Row>& rows() const { return rows_; }
 
  private:
-  bool has_fallen(BlockId id) const;  // found fallen in a stage so far
+  bool has_fallen(BlockId id) const;  // counted as fallen at the last stage end
   struct Reference {
     std::map<ContactKey, std::pair<double, double>> contacts;  // u_s, u_n at the reference
     std::map<BlockId, Vec2> centroids;                          // block centroids at the reference

@@ -553,8 +553,8 @@ InstabilityError stopped_unstable(Run& r, const InstabilityError& e) {
   r.progress.end_line();
   r.engine.restore(r.engine.last_good());
   const auto path = (r.out / "last_good_state.h5").string();
+  with_whole_model(r, [&] { write_checkpoint(r.c.model, path); });  // the state first: it is what to go on from
   write_vtk(r);
-  with_whole_model(r, [&] { write_checkpoint(r.c.model, path); });
   r.rec.close();
   // The joint record up to here is kept, marked incomplete.
   std::string record;

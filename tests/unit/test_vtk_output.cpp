@@ -19,6 +19,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 
 #include "framework/io/vtk_output.hpp"
@@ -298,5 +299,18 @@ TEST(VtkOutput, EachProcessWritesItsPieceAndTheSummaryListsThemAll) {
   }
   EXPECT_EQ(read_pvd(dir / "blocks.pvd").at(0).file, "blocks_000000007.pvtu");
   fs::remove_all(serial_dir);
+  fs::remove_all(dir);
+}
+
+// A piece that cannot be written (here a folder stands where its file goes) is an error, not a
+// silent gap that the step's .pvtu would list: VTK's writer reports it by its error code only.
+TEST(VtkOutput, APieceThatCannotBeWrittenIsAnError) {
+  const fs::path dir = temp_dir("unwritable");
+  Model m = test::make_io_test_model();
+  m.step = 5;
+  VtkSeries vtk(dir);
+  fs::create_directories(dir / "blocks_000000005_0.vtu");
+  EXPECT_THROW(vtk.write(m), std::runtime_error);
+  EXPECT_FALSE(fs::exists(dir / "blocks_000000005.pvtu"));
   fs::remove_all(dir);
 }
