@@ -198,8 +198,7 @@ namespace {
 vtkSmartPointer<vtkUnstructuredGrid> blocks_grid(const Model& m) {
   std::vector<vtkIdType> local(m.gp.size(), -1);
   vtkIdType np = 0;
-  for (std::size_t i = 0; i < m.gp.size(); ++i)
-    if (m.part.owns(m.gp[i].block)) local[i] = np++;
+  for_owned_gridpoints(m, [&](int i) { local[static_cast<std::size_t>(i)] = np++; });
   auto grid = vtkSmartPointer<vtkUnstructuredGrid>::New();
   auto pts = make_points(np);
   auto disp = make_array("displacement_m", 3, np);
@@ -218,8 +217,10 @@ vtkSmartPointer<vtkUnstructuredGrid> blocks_grid(const Model& m) {
   grid->GetPointData()->SetActiveVectors("displacement_m");  // the default for Warp By Vector
 
   vtkIdType ncell = 0;
-  for (std::size_t bi = 0; bi < m.blocks.size(); ++bi)
-    if (m.part.owns(static_cast<int>(bi))) ncell += m.blocks[bi].rigid ? 1 : m.blocks[bi].n_zone;
+  for_owned_blocks(m, [&](int bi) {
+    const Block& b = m.blocks[static_cast<std::size_t>(bi)];
+    ncell += b.rigid ? 1 : b.n_zone;
+  });
   grid->Allocate(ncell);
   auto stress = make_array("stress_Pa", 6, ncell);
   const char* comp[6] = {"XX", "YY", "ZZ", "XY", "YZ", "XZ"};
@@ -244,9 +245,9 @@ vtkSmartPointer<vtkUnstructuredGrid> blocks_grid(const Model& m) {
   if (any_rigid) mean = block_mean_stress(m);
   std::vector<vtkIdType> ids;
   vtkIdType cell = 0;
-  for (const Block& b : m.blocks) {
-    const auto bi = static_cast<std::size_t>(&b - m.blocks.data());
-    if (!m.part.owns(static_cast<int>(bi))) continue;
+  for_owned_blocks(m, [&](int block) {
+    const auto bi = static_cast<std::size_t>(block);
+    const Block& b = m.blocks[bi];
     auto tag = [&](vtkIdType c) {
       block_id->SetValue(c, id_value(b.id));
       block_name->SetValue(c, b.name);
@@ -264,7 +265,7 @@ vtkSmartPointer<vtkUnstructuredGrid> blocks_grid(const Model& m) {
       stress->SetTuple(cell, s);
       from->SetValue(cell, known ? 2 : 0);
       tag(cell++);
-      continue;
+      return;
     }
     for (int z = b.first_zone; z < b.first_zone + b.n_zone; ++z) {
       const Zone& zn = m.zones[static_cast<std::size_t>(z)];
@@ -276,7 +277,7 @@ vtkSmartPointer<vtkUnstructuredGrid> blocks_grid(const Model& m) {
       from->SetValue(cell, 1);
       tag(cell++);
     }
-  }
+  });
   grid->GetCellData()->AddArray(stress);
   grid->GetCellData()->AddArray(block_id);
   grid->GetCellData()->AddArray(block_name);

@@ -74,7 +74,6 @@ class VtkSeries {
 void write_blocks_vtu(const Model& m, const std::string& path);
 void write_contacts_vtu(const Model& m, const std::string& path);
 
-
 // Named fields for results that are not the model's own state (the drift study's joints and
 // blocks, docs/drift-study.md): one value per point or per block, in the order given.
 struct VtkFields {
