@@ -20,6 +20,7 @@
 #include "framework/simulation/run_case.hpp"
 #include "framework/app/cli_contract.hpp"
 #include "framework/core/error.hpp"
+#include "framework/core/threads.hpp"
 #include "framework/core/interrupt.hpp"
 #include "framework/io/case_reader.hpp"
 #include "framework/io/checkpoint.hpp"
@@ -249,8 +250,14 @@ const CommandRegistrar reg{Command{
                      "NAME=FILE: the case's [[joints]] entry NAME takes its law, parameters and effects from FILE (a TOML "
                      "table with the keys of a [[joints]] entry, or the JSON of rockdem calibrate/diagnose); where it acts "
                      "stays as in the case; FILE is copied into the output folder (joints/); repeatable");
+      auto threads = std::make_shared<int>(1);
+      sub.add_option("--threads", *threads,
+                     "threads of each process for the zone, contact-law, contact-geometry and detection loops (the results "
+                     "are the same on any number; under mpirun give each process that many cores, e.g. --bind-to none)")
+          ->check(CLI::Range(1, 256))
+          ->capture_default_str();
       return [file, out, use_default, quiet, no_plots, overwrite, restart, velocity, mass_dt, nstages, write_case,
-              write_blocks, joints, checkpoint_every]() -> int {
+              write_blocks, joints, checkpoint_every, threads]() -> int {
         // Under mpirun every process runs the case (its share of the blocks); process 0 writes.
         const std::unique_ptr<Communication> parallel = make_communication();
         Communication& comm = parallel ? *parallel : serial_communication();
@@ -314,6 +321,16 @@ const CommandRegistrar reg{Command{
                            : load_case(*file, joint_files);
         }
         if (!checkpoint_every->empty()) read_checkpoint_interval(*checkpoint_every, "--checkpoint-every", c.output);
+        c.settings.threads = *threads;
+        if (comm.root()) {
+          // Threads beyond the cores this process may use take turns on them: worse than one.
+          const int cores = usable_cores();
+          if (*threads > 1 && cores > 0 && *threads > cores)
+            c.warnings.push_back("--threads " + std::to_string(*threads) + ": this process may use " + std::to_string(cores) +
+                                 (cores == 1 ? " core" : " cores") +
+                                 " (its CPU affinity; mpirun binds each process to one core unless given --bind-to none or "
+                                 "--map-by slot:PE=" + std::to_string(*threads) + "), so its threads will take turns");
+        }
         // Before any output folder is made: a --write-blocks look at the case shows them too.
         if (comm.root())
           for (const auto& w : c.warnings) std::cerr << "rockdem: warning: " << w << "\n";

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "framework/core/threads.hpp"
+
 namespace rockdem {
 namespace {
 
@@ -24,7 +26,7 @@ void corner_rounding(const Vec2& e1, const Vec2& e2, double l1, double l2, doubl
 
 }  // namespace
 
-void BoundaryGeometry::update(const Model& m, double rounding) {
+void BoundaryGeometry::update(const Model& m, double rounding, int threads) {
   const std::size_t nb = m.blocks.size();
   first_.resize(nb + 1);
   std::size_t total = 0;
@@ -35,8 +37,9 @@ void BoundaryGeometry::update(const Model& m, double rounding) {
   first_[nb] = total;
   edges_.resize(total);
   const double cos5 = std::cos(5.0 * M_PI / 180.0);
-  for (std::size_t b = 0; b < nb; ++b) {
-    if (!m.part.current(static_cast<int>(b))) continue;
+  threaded_for(threads, 0, static_cast<std::ptrdiff_t>(nb), [&](std::ptrdiff_t bi) {
+    const auto b = static_cast<std::size_t>(bi);
+    if (!m.part.current(static_cast<int>(b))) return;
     const std::vector<int>& loop = m.blocks[b].boundary;
     const int n = static_cast<int>(loop.size());
     BoundaryEdge* e = edges_.data() + first_[b];
@@ -57,7 +60,7 @@ void BoundaryGeometry::update(const Model& m, double rounding) {
       out.flat = in.u.dot(out.u) >= cos5;
       if (out.flat) out.flat_normal = Vec2(in.u.y() + out.u.y(), -(in.u.x() + out.u.x())).normalized();
     }
-  }
+  });
 }
 
 BoundaryGeometry& boundary_geometry() {

@@ -33,7 +33,7 @@ class BoundaryGeometry {
  public:
   // Recompute the entries of every block whose state is current here (Partition::current) for
   // the gridpoint positions now and the given corner rounding length [m].
-  void update(const Model& m, double rounding);
+  void update(const Model& m, double rounding, int threads = 1);
   // Block position b's entries, indexed by boundary position.
   const BoundaryEdge* of(int b) const { return edges_.data() + first_[static_cast<std::size_t>(b)]; }
 

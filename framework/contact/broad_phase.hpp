@@ -25,6 +25,7 @@ void broad_phase_pairs(const Model& m, double margin, std::vector<std::pair<int,
 struct DetectionBuffers {
   std::vector<Contact> found;
   std::vector<std::pair<int, int>> pairs;
+  std::vector<std::vector<Contact>> chunks;  // a threaded pass: the contacts of each stretch of pairs
 };
 DetectionBuffers& detection_buffers();
 
@@ -55,7 +56,8 @@ class PairTable {
 struct ClusterBuffers {
   PairTable pairs;
   std::vector<ClusterHead> clusters;
-  std::vector<ClusterSpan> spans;
+  std::vector<int> cluster_of;      // per contact
+  std::vector<ClusterSpan> spans;   // per contact
   std::vector<std::size_t> start, cursor;  // counting sort of the spans by cluster
   std::vector<const ClusterSpan*> sorted, touching;
   std::vector<double> cuts;  // shares of coincident points' cells

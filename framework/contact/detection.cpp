@@ -6,6 +6,7 @@
 
 #include "framework/contact/boundary_geometry.hpp"
 #include "framework/contact/broad_phase.hpp"
+#include "framework/core/threads.hpp"
 #include "framework/geometry/polygon.hpp"
 
 namespace rockdem {
@@ -262,7 +263,7 @@ bool band_interval(const Vec2& a, const Vec2& b, const Vec2& p, const Vec2& n, c
 
 }  // namespace
 
-std::size_t detect_contacts(Model& m, const DetectionSettings& s) {
+std::size_t detect_contacts(Model& m, const DetectionSettings& s, int threads) {
   // Buffers kept between passes (broad_phase.hpp); merge() hands the old contact list back.
   DetectionBuffers& buffers = detection_buffers();
   std::vector<Contact>& found = buffers.found;
@@ -270,7 +271,7 @@ std::size_t detect_contacts(Model& m, const DetectionSettings& s) {
   broad_phase_pairs(m, s.distance, buffers.pairs);
   const auto& pairs = buffers.pairs;
   BoundaryGeometry& geometry = boundary_geometry();
-  geometry.update(m, m.contacts.rounding);
+  geometry.update(m, m.contacts.rounding, threads);
   // Candidate contacts of one point: one per own side that faces an edge of the other block, or
   // else one against the rounded boundary (see face_projection and corner_to_corner).
   struct Candidate {
@@ -307,7 +308,7 @@ std::size_t detect_contacts(Model& m, const DetectionSettings& s) {
     out[0] = {side, false, pr};
     return 1;
   };
-  auto scan = [&](int ia, int ib) {
+  auto scan = [&](int ia, int ib, std::vector<Contact>& out, std::size_t& hint) {
     const Block& A = m.blocks[ia];
     const Block& B = m.blocks[ib];
     const Box bb = block_box(m, B, s.distance);
@@ -324,7 +325,7 @@ std::size_t detect_contacts(Model& m, const DetectionSettings& s) {
         const Projection& pr = cand[ic].pr;
         if (pr.dist > 10.0 * s.distance) continue;
         const ContactKey key{A.id, m.gp[g].local, B.id, cand[ic].side};
-        const Contact* old = m.contacts.find(key);
+        const Contact* old = m.contacts.find(key, hint);
         const bool closed = old && !old->response.open && !old->fresh;
         if (pr.dist > s.distance && !closed) continue;
         Contact c;
@@ -341,23 +342,46 @@ std::size_t detect_contacts(Model& m, const DetectionSettings& s) {
         if (old) c.pretouch_gap = old->pretouch_gap;
         else c.pretouch_gap = std::max(0.0, pr.dist);  // not yet touching: the law starts when it closes
         c.pending_closure = old ? old->pending_closure : std::max(0.0, -pr.dist);
-        found.push_back(c);
+        out.push_back(c);
       }
     }
   };
-  for (const auto& [i, j] : pairs) {
-    scan(i, j);
-    scan(j, i);
+  if (threads <= 1 || pairs.size() < static_cast<std::size_t>(kThreadedLoopMin)) {
+    std::size_t hint = 0;
+    for (const auto& [i, j] : pairs) {
+      scan(i, j, found, hint);
+      scan(j, i, found, hint);
+    }
+  } else {
+    // Stretches of the pair list on several threads, each into its own list; the lists joined in
+    // order give the contacts in the order one thread finds them. More stretches than threads, so
+    // that a thread that drew a dense part of the model does not leave the others waiting.
+    const std::size_t nchunks = std::min<std::size_t>(8 * static_cast<std::size_t>(threads), pairs.size());
+    buffers.chunks.resize(nchunks);
+    threaded_chunks(threads, static_cast<std::ptrdiff_t>(nchunks), [&](std::ptrdiff_t ci) {
+      std::vector<Contact>& out = buffers.chunks[static_cast<std::size_t>(ci)];
+      out.clear();
+      std::size_t hint = 0;
+      const std::size_t first = pairs.size() * static_cast<std::size_t>(ci) / nchunks;
+      const std::size_t last = pairs.size() * static_cast<std::size_t>(ci + 1) / nchunks;
+      for (std::size_t p = first; p < last; ++p) {
+        scan(pairs[p].first, pairs[p].second, out, hint);
+        scan(pairs[p].second, pairs[p].first, out, hint);
+      }
+    });
+    for (std::size_t ci = 0; ci < nchunks; ++ci) found.insert(found.end(), buffers.chunks[ci].begin(), buffers.chunks[ci].end());
   }
   const std::size_t created = m.contacts.merge(std::move(found));
-  update_contact_lengths(m, s);
+  update_contact_lengths(m, s, threads);
   return created;
 }
 
-void update_contact_geometry(Model& m) {
+void update_contact_geometry(Model& m, int threads) {
   BoundaryGeometry& geometry = boundary_geometry();
-  geometry.update(m, m.contacts.rounding);
-  for (Contact& c : m.contacts.items) {
+  geometry.update(m, m.contacts.rounding, threads);
+  // Each contact reads positions and writes only itself: on several threads as they come.
+  threaded_for(threads, 0, static_cast<std::ptrdiff_t>(m.contacts.items.size()), [&](std::ptrdiff_t ic) {
+    Contact& c = m.contacts.items[static_cast<std::size_t>(ic)];
     const Block& B = m.blocks[c.other];
     const int ia = m.gp[c.point].block;
     const Block& A = m.blocks[ia];
@@ -383,7 +407,7 @@ void update_contact_geometry(Model& m) {
       c.s = pr.s;
       c.normal = pr.normal;
       c.overlap = -pr.dist;
-      continue;
+      return;
     }
     // Slide along the other boundary: at most n moves, normally zero or one.
     for (int it = 0; it < n; ++it) {
@@ -408,10 +432,10 @@ void update_contact_geometry(Model& m) {
     c.s = pr.s;
     c.normal = pr.normal;
     c.overlap = -pr.dist;
-  }
+  });
 }
 
-void update_contact_lengths(Model& m, const DetectionSettings& s) {
+void update_contact_lengths(Model& m, const DetectionSettings& s, int threads) {
   auto& items = m.contacts.items;
   const double w = s.distance;
   // Own and facing intervals, on the tangent through each contact point (ClusterSpan).
@@ -424,6 +448,9 @@ void update_contact_lengths(Model& m, const DetectionSettings& s) {
   clusters.clear();
   cb.spans.clear();
   cb.pairs.reset(items.size());
+  // The clusters, in contact order (a cluster's normal is its first contact's); then each
+  // contact's stretch on its cluster's tangent, on several threads (each writes its own span).
+  cb.cluster_of.resize(items.size());
   for (std::size_t i = 0; i < items.size(); ++i) {
     const Contact& c = items[i];
     const BlockId a = std::min(c.key.point_block, c.key.other_block);
@@ -439,6 +466,13 @@ void update_contact_lengths(Model& m, const DetectionSettings& s) {
       clusters.push_back({n, -1});
       (last < 0 ? head : clusters[static_cast<std::size_t>(last)].next) = ci;
     }
+    cb.cluster_of[i] = ci;
+  }
+  cb.spans.resize(items.size());
+  threaded_for(threads, 0, static_cast<std::ptrdiff_t>(items.size()), [&](std::ptrdiff_t ii) {
+    const auto i = static_cast<std::size_t>(ii);
+    const Contact& c = items[i];
+    const int ci = cb.cluster_of[i];
     const Vec2 t(clusters[static_cast<std::size_t>(ci)].n.y(), -clusters[static_cast<std::size_t>(ci)].n.x());
     // Own tributary: the half-edges on both sides of the point, inside the contact band.
     const Block& A = m.blocks[m.gp[c.point].block];
@@ -485,8 +519,8 @@ void update_contact_lengths(Model& m, const DetectionSettings& s) {
     const double base = p.dot(t);
     const bool touching = !c.response.open && c.pretouch_gap <= 0.0;
     items[i].span = any ? hi - lo : 0.0;
-    cb.spans.push_back({ci, i, base + x0, base + std::max(x0, x1), base, touching});
-  }
+    cb.spans[i] = {ci, i, base + x0, base + std::max(x0, x1), base, touching};
+  });
   // Spans cluster by cluster, each cluster's in contact order.
   cb.start.assign(clusters.size() + 1, 0);
   for (const ClusterSpan& sp : cb.spans) ++cb.start[static_cast<std::size_t>(sp.cluster) + 1];

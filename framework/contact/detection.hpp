@@ -26,14 +26,16 @@ struct DetectionSettings {
 // Find all contacts, merge them into the store (persisting law state by key) and compute lengths.
 // Contacts that are closed in the joint law are kept even beyond the detection distance (a dilating
 // joint stays in contact); open ones beyond it are dropped.
-std::size_t detect_contacts(Model& m, const DetectionSettings& s);
+// With threads > 1 the narrow phase, the contact lengths' stretches and the boundary table run on
+// that many threads (core/threads.hpp), with the contacts in the order one thread finds them.
+std::size_t detect_contacts(Model& m, const DetectionSettings& s, int threads = 1);
 
 // Update, for the current positions, each contact's projection onto the other block (edge, s,
 // normal), walking to neighbouring edges as the point slides. Cheap; called every step.
-void update_contact_geometry(Model& m);
+void update_contact_geometry(Model& m, int threads = 1);
 
 // Recompute contact lengths (coverage sharing among touching contacts).
-void update_contact_lengths(Model& m, const DetectionSettings& s);
+void update_contact_lengths(Model& m, const DetectionSettings& s, int threads = 1);
 
 // Candidate block pairs (i < j) whose boxes, grown by `margin`, overlap.
 std::vector<std::pair<int, int>> broad_phase(const Model& m, double margin);

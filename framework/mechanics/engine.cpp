@@ -7,6 +7,7 @@
 #include <tuple>
 
 #include "framework/core/error.hpp"
+#include "framework/core/threads.hpp"
 #include "framework/mechanics/zones.hpp"
 #include "framework/plugin_api/rock_material.hpp"
 
@@ -157,7 +158,7 @@ void Engine::refresh_contacts() {
     // present state, then detection on the blocks current here.
     comm_.borders(m_, 2.0 * s_.detection.distance);
     comm_.forward(m_);
-    detect_contacts(m_, s_.detection);
+    detect_contacts(m_, s_.detection, s_.threads);
   });
   steps_since_refresh_ = 0;
   travel_since_refresh_ = 0.0;
@@ -171,7 +172,7 @@ void Engine::compute_time_step() {
   // Stiffness seen by each gridpoint: zones plus contacts (kn*L on the point and, shared by the
   // projection weights, on the edge's two gridpoints).
   for (auto& g : m_.gp) g.stiffness = 0.0;
-  zone_stiffness(m_);
+  zone_stiffness(m_, s_.threads);
   const std::size_t nb = m_.blocks.size();
   std::vector<double> kb(nb, 0.0), krot(nb, 0.0);
   for (const Contact& c : m_.contacts.items) {
@@ -293,49 +294,70 @@ void Engine::compute_time_step() {
   dt_ = dt;
 }
 
+bool Engine::update_contact(Contact& c) const {
+  const Block& B = m_.blocks[c.other];
+  const int n = static_cast<int>(B.boundary.size());
+  const int ga = B.boundary[c.edge], gb = B.boundary[(c.edge + 1) % n];
+  const Vec2 vb = (1.0 - c.s) * m_.gp[ga].v + c.s * m_.gp[gb].v;
+  const Vec2 vrel = m_.gp[c.point].v - vb;
+  const Vec2 t(c.normal.y(), -c.normal.x());
+  JointKinematics k;
+  k.du_n = vrel.dot(c.normal) * dt_;
+  k.du_s = vrel.dot(t) * dt_;
+  k.dt = dt_;
+  k.length = c.length;
+  if (c.pretouch_gap > 0.0) {
+    // Not touching yet: geometry decides (the rounded-corner distance), and the law starts at
+    // first touch with the penetration found then, so a point that slides in under an edge of
+    // the other block picks up the stress the joint carries there.
+    const double gap = -c.overlap;
+    if (gap > 0.0) {
+      c.pretouch_gap = gap;
+      c.response.open = true;
+      return false;
+    }
+    k.du_n = gap;
+    c.pretouch_gap = 0.0;
+  }
+  if (c.pending_closure > 0.0) {
+    k.du_n -= c.pending_closure;
+    c.pending_closure = 0.0;
+  }
+  m_.contacts.models[c.joint]->update(c.state, k, c.response);
+  c.fresh = false;
+  return true;
+}
+
+void Engine::add_contact_force(const Contact& c) {
+  const Block& B = m_.blocks[c.other];
+  const int n = static_cast<int>(B.boundary.size());
+  const int ga = B.boundary[c.edge], gb = B.boundary[(c.edge + 1) % n];
+  const Vec2 f = c.force();
+  m_.gp[c.point].f += f;
+  m_.gp[ga].f -= (1.0 - c.s) * f;
+  m_.gp[gb].f -= c.s * f;
+  // Counted once, by the process owning the contact's point (a contact between two processes'
+  // blocks is computed on both).
+  if (m_.part.owns(m_.gp[c.point].block)) applied_sum_ += 2.0 * f.norm();
+  block_contact_force_[m_.gp[c.point].block] += f;
+  block_contact_force_[c.other] -= f;
+}
+
 void Engine::contact_forces() {
   block_contact_force_.assign(m_.blocks.size(), Vec2::Zero());
-  for (Contact& c : m_.contacts.items) {
-    const Block& B = m_.blocks[c.other];
-    const int n = static_cast<int>(B.boundary.size());
-    const int ga = B.boundary[c.edge], gb = B.boundary[(c.edge + 1) % n];
-    const Vec2 vb = (1.0 - c.s) * m_.gp[ga].v + c.s * m_.gp[gb].v;
-    const Vec2 vrel = m_.gp[c.point].v - vb;
-    const Vec2 t(c.normal.y(), -c.normal.x());
-    JointKinematics k;
-    k.du_n = vrel.dot(c.normal) * dt_;
-    k.du_s = vrel.dot(t) * dt_;
-    k.dt = dt_;
-    k.length = c.length;
-    if (c.pretouch_gap > 0.0) {
-      // Not touching yet: geometry decides (the rounded-corner distance), and the law starts at
-      // first touch with the penetration found then, so a point that slides in under an edge of
-      // the other block picks up the stress the joint carries there.
-      const double gap = -c.overlap;
-      if (gap > 0.0) {
-        c.pretouch_gap = gap;
-        c.response.open = true;
-        continue;
-      }
-      k.du_n = gap;
-      c.pretouch_gap = 0.0;
-    }
-    if (c.pending_closure > 0.0) {
-      k.du_n -= c.pending_closure;
-      c.pending_closure = 0.0;
-    }
-    m_.contacts.models[c.joint]->update(c.state, k, c.response);
-    c.fresh = false;
-    const Vec2 f = c.force();
-    m_.gp[c.point].f += f;
-    m_.gp[ga].f -= (1.0 - c.s) * f;
-    m_.gp[gb].f -= c.s * f;
-    // Counted once, by the process owning the contact's point (a contact between two processes'
-    // blocks is computed on both).
-    if (m_.part.owns(m_.gp[c.point].block)) applied_sum_ += 2.0 * f.norm();
-    block_contact_force_[m_.gp[c.point].block] += f;
-    block_contact_force_[c.other] -= f;
+  auto& items = m_.contacts.items;
+  if (s_.threads <= 1) {
+    for (Contact& c : items)
+      if (update_contact(c)) add_contact_force(c);
+    return;
   }
+  // The joint laws on several threads (each contact's state is its own); then the forces added
+  // in contact order on this thread, as the loop above adds them.
+  acting_.resize(items.size());
+  threaded_for(s_.threads, 0, static_cast<std::ptrdiff_t>(items.size()),
+               [&](std::ptrdiff_t i) { acting_[static_cast<std::size_t>(i)] = update_contact(items[static_cast<std::size_t>(i)]); });
+  for (std::size_t i = 0; i < items.size(); ++i)
+    if (acting_[i]) add_contact_force(items[i]);
 }
 
 std::map<std::string, std::vector<double>> Engine::saved_state() const {
@@ -439,14 +461,14 @@ void Engine::step() {
   char error_kind = 0;
   std::string error;
   auto forces = [&] {
-    update_contact_geometry(m_);
+    update_contact_geometry(m_, s_.threads);
     for_owned_gridpoints(m_, [&](int i) { m_.gp[static_cast<std::size_t>(i)].f.setZero(); });
     for (int b : m_.part.ghost_blocks) {  // contacts put forces on them too; they are not used
       const Block& B = m_.blocks[static_cast<std::size_t>(b)];
       for (int i = B.first_gp; i < B.first_gp + B.n_gp; ++i) m_.gp[static_cast<std::size_t>(i)].f.setZero();
     }
     applied_sum_ = 0.0;
-    zone_forces(m_, dt_, beta);
+    zone_forces(m_, dt_, beta, s_.threads);
     energy_.after_zone_forces(m_, beta);
     contact_forces();
     energy_.before_boundary_forces(m_);
@@ -510,16 +532,21 @@ void Engine::step() {
   for (auto* bc : active_) bc->velocities(m_, stage_time_ + dt_);
   for (auto* bc : active_) bc->end_step(m_, dt_);
   // Positions from the final half-step velocities (prescribed ones included).
+  // (The largest speed is the same whichever thread finds it.)
   double speed2 = 0.0;
-  for_owned_gridpoints(m_, [&](int i) {
+  auto move_gridpoint = [&](std::ptrdiff_t i) {
     GridPoint& g = m_.gp[static_cast<std::size_t>(i)];
-    if (m_.blocks[g.block].rigid) return;
+    if (m_.blocks[g.block].rigid) return 0.0;
     g.x += g.v * dt_;
-    speed2 = std::max(speed2, g.v.squaredNorm());
+    return g.v.squaredNorm();
+  };
+  for_owned_gridpoint_ranges(m_, [&](int first, int last) {
+    speed2 = std::max(speed2, threaded_max(s_.threads, first, last, move_gridpoint));
   });
-  for_owned_blocks(m_, [&](int bi) {
+  auto move_block = [&](std::ptrdiff_t bi) {
     Block& b = m_.blocks[static_cast<std::size_t>(bi)];
-    if (!b.rigid) return;
+    double fastest = 0.0;
+    if (!b.rigid) return fastest;
     b.xc += b.vc * dt_;
     b.theta += b.omega * dt_;
     const double c = std::cos(b.theta), s = std::sin(b.theta);
@@ -529,8 +556,12 @@ void Engine::step() {
       const Vec2 r(c * r0.x() - s * r0.y(), s * r0.x() + c * r0.y());
       g.x = b.xc + r;
       g.v = b.vc + b.omega * perp(r);
-      speed2 = std::max(speed2, g.v.squaredNorm());
+      fastest = std::max(fastest, g.v.squaredNorm());
     }
+    return fastest;
+  };
+  for_owned_block_ranges(m_, [&](int first, int last) {
+    speed2 = std::max(speed2, threaded_max(s_.threads, first, last, move_block));
   });
   // The largest speed of all processes, so that every one refreshes at the same step (and the
   // result does not depend on the number of processes).
@@ -598,7 +629,11 @@ void Engine::integrate() {
     smooth_w_[b] += w * (m_.blocks[b].omega - smooth_w_[b]);
   }
   auto sgn = [](double v) { return v > 0 ? 1.0 : v < 0 ? -1.0 : 0.0; };
-  for_owned_gridpoints(m_, [&](int gi) {
+  // Each gridpoint on its own. On several threads the unbalanced forces are kept per gridpoint
+  // and added up afterwards in gridpoint order, so that their sum is that of one thread.
+  const bool one_thread = s_.threads <= 1;
+  if (!one_thread) unbalanced_gp_.resize(2 * m_.gp.size());
+  auto update = [&](std::ptrdiff_t gi) {
     const auto i = static_cast<std::size_t>(gi);
     GridPoint& g = m_.gp[i];
     if (m_.blocks[g.block].rigid) return;
@@ -606,7 +641,8 @@ void Engine::integrate() {
     Vec2 f = g.f - am * mi * g.v;
     for (int d = 0; d < 2; ++d) {
       if (d == 0 ? g.fixed_x : g.fixed_y) continue;
-      unbalanced += std::abs(f[d]);
+      if (one_thread) unbalanced += std::abs(f[d]);
+      else unbalanced_gp_[2 * i + static_cast<std::size_t>(d)] = std::abs(f[d]);
       double fd = f[d];
       if (local) {
         const double share = mi / mass_sum_[g.block][d];  // this point's share of the block's mean motion
@@ -616,7 +652,19 @@ void Engine::integrate() {
       }
       g.v[d] += fd / mi * dt_;
     }
-  });
+  };
+  if (one_thread) {
+    for_owned_gridpoints(m_, update);
+  } else {
+    for_owned_gridpoint_ranges(m_, [&](int first, int last) { threaded_for(s_.threads, first, last, update); });
+    for_owned_gridpoints(m_, [&](int gi) {
+      const auto i = static_cast<std::size_t>(gi);
+      const GridPoint& g = m_.gp[i];
+      if (m_.blocks[g.block].rigid) return;
+      if (!g.fixed_x) unbalanced += unbalanced_gp_[2 * i];
+      if (!g.fixed_y) unbalanced += unbalanced_gp_[2 * i + 1];
+    });
+  }
   block_ratio_ = 0.0;
   worst_block_ = 0;
   for_owned_blocks(m_, [&](int bii) {

@@ -123,6 +123,9 @@ class Engine {
  private:
   void compute_time_step();
   void contact_forces();
+  // One contact's joint-law update for this step; false where it does not act yet (not touching).
+  bool update_contact(Contact& c) const;
+  void add_contact_force(const Contact& c);  // its force on the gridpoints and the block sums
   void integrate();
   void check_state();
   void sum_energy();  // the energy terms of all processes (decomposed runs)
@@ -155,6 +158,8 @@ class Engine {
   std::vector<double> dashpot_;            // per gridpoint: viscous boundaries' dashpots [N s/m per m]
   std::vector<double> block_mass_, block_inertia_;
   std::vector<Vec2> block_contact_force_;  // per block, last step
+  std::vector<char> acting_;               // per contact, this step (threaded contact_forces)
+  std::vector<double> unbalanced_gp_;      // per gridpoint, |f_x| and |f_y| this step (integrate)
   std::vector<Vec2> mean_v_, mean_f_, mass_sum_;  // per block, for local damping
   std::vector<Vec2> smooth_v_;                    // running average of each block's (mean) velocity
   std::vector<double> smooth_w_;                  // and spin

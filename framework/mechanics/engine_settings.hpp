@@ -29,6 +29,9 @@ struct EngineSettings {
   int refresh_interval = 10;    // steps between contact detections
   DetectionSettings detection;
   double velocity_limit = 1e3;  // |v| above this is taken as a runaway [m/s]
+  // Threads of this process for the zone, contact-law, contact-geometry and detection loops
+  // (core/threads.hpp): the same results on any number. Not a case setting: `rockdem run --threads`.
+  int threads = 1;
 };
 
 }  // namespace rockdem

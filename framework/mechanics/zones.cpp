@@ -1,9 +1,13 @@
 #include "framework/mechanics/zones.hpp"
 
+#include <array>
+#include <atomic>
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include "framework/core/error.hpp"
+#include "framework/core/threads.hpp"
 #include "framework/plugin_api/rock_material.hpp"
 
 namespace rockdem {
@@ -139,98 +143,231 @@ int add_deformable_block(Model& m, const TriMesh& mesh, int material, const std:
   return static_cast<int>(m.blocks.size()) - 1;
 }
 
-void zone_forces(Model& m, double dt, double beta_stiffness) {
-  for_owned_zones(m, [&](int iz) {
-    Zone& z = m.zones[static_cast<std::size_t>(iz)];
-    GridPoint& g0 = m.gp[z.n[0]];
-    GridPoint& g1 = m.gp[z.n[1]];
-    GridPoint& g2 = m.gp[z.n[2]];
-    double b[3], c[3];
-    const double a2 = cst_gradients(g0.x, g1.x, g2.x, b, c);
-    if (!(a2 > 0.0)) {
-      const Block& blk = m.blocks[g0.block];
-      const std::string what = std::isfinite(a2) ? "turned inside out (area " + std::to_string(0.5 * a2) + " m^2)"
-                                                 : "has non-finite gridpoint positions";
-      throw InstabilityError("zone " + std::to_string(iz - blk.first_zone) + " of block '" + blk.name + "' " +
-                             what + " at step " + std::to_string(m.step));
-    }
-    // Strain rate and spin on the mid-step configuration x - v dt/2 (see zones.hpp).
-    const double h = 0.5 * dt;
-    double bm[3], cm[3];
-    const double a2m = cst_gradients(g0.x - h * g0.v, g1.x - h * g1.v, g2.x - h * g2.v, bm, cm);
-    const double inv = 1.0 / a2m;
-    const Vec2* v[3] = {&g0.v, &g1.v, &g2.v};
-    // Velocity gradient L_ij = sum_n v_i^n dN^n/dx_j.
-    double lxx = 0.0, lxy = 0.0, lyx = 0.0, lyy = 0.0;
-    for (int k = 0; k < 3; ++k) {
-      lxx += v[k]->x() * bm[k];
-      lxy += v[k]->x() * cm[k];
-      lyx += v[k]->y() * bm[k];
-      lyy += v[k]->y() * cm[k];
-    }
-    const Voigt3 rate(lxx * inv, lyy * inv, (lxy + lyx) * inv);  // engineering shear rate
-    const double spin = 0.5 * (lyx - lxy) * inv;                  // counter-clockwise [rad/s]
+namespace {
 
-    // On the mid-step configuration a rigid turn by theta has spin (2/dt) tan(theta/2) (Cayley
-    // transform): the stress turns by exactly theta, whose cosine and sine follow from
-    // tau = tan(theta/2) without trigonometric functions: cos = (1 - tau^2)/(1 + tau^2),
-    // sin = 2 tau/(1 + tau^2) (the atan, sin and cos they replace took 18 % of a laboratory DEM
-    // run; docs/performance.md).
-    const double tau = 0.5 * spin * dt;
-    if (tau != 0.0) {
-      const double inv1 = 1.0 / (1.0 + tau * tau);
-      const double cr = (1.0 - tau * tau) * inv1, sr = 2.0 * tau * inv1;
-      rotate_tensor(cr, sr, z.stress[0], z.stress[1], z.stress[2]);
-      double exy = 0.5 * z.strain[2];
-      rotate_tensor(cr, sr, z.strain[0], z.strain[1], exy);
-      z.strain[2] = 2.0 * exy;
-    }
+// One zone's update (steps 1-4 of zone_forces) and the forces it puts on its three gridpoints,
+// (fx, fy) per corner in `f`; the gridpoints are not touched.
+void zone_update(Model& m, int iz, double dt, double beta_stiffness, double f[6]) {
+  Zone& z = m.zones[static_cast<std::size_t>(iz)];
+  const GridPoint& g0 = m.gp[z.n[0]];
+  const GridPoint& g1 = m.gp[z.n[1]];
+  const GridPoint& g2 = m.gp[z.n[2]];
+  double b[3], c[3];
+  const double a2 = cst_gradients(g0.x, g1.x, g2.x, b, c);
+  if (!(a2 > 0.0)) {
+    const Block& blk = m.blocks[g0.block];
+    const std::string what = std::isfinite(a2) ? "turned inside out (area " + std::to_string(0.5 * a2) + " m^2)"
+                                               : "has non-finite gridpoint positions";
+    throw InstabilityError("zone " + std::to_string(iz - blk.first_zone) + " of block '" + blk.name + "' " +
+                           what + " at step " + std::to_string(m.step));
+  }
+  // Strain rate and spin on the mid-step configuration x - v dt/2 (see zones.hpp).
+  const double h = 0.5 * dt;
+  double bm[3], cm[3];
+  const double a2m = cst_gradients(g0.x - h * g0.v, g1.x - h * g1.v, g2.x - h * g2.v, bm, cm);
+  const double inv = 1.0 / a2m;
+  const Vec2* v[3] = {&g0.v, &g1.v, &g2.v};
+  // Velocity gradient L_ij = sum_n v_i^n dN^n/dx_j.
+  double lxx = 0.0, lxy = 0.0, lyx = 0.0, lyy = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    lxx += v[k]->x() * bm[k];
+    lxy += v[k]->x() * cm[k];
+    lyx += v[k]->y() * bm[k];
+    lyy += v[k]->y() * cm[k];
+  }
+  const Voigt3 rate(lxx * inv, lyy * inv, (lxy + lyx) * inv);  // engineering shear rate
+  const double spin = 0.5 * (lyx - lxy) * inv;                  // counter-clockwise [rad/s]
 
-    const RockMaterialBase& mat = *m.materials[z.material];
-    const Voigt3 de = rate * dt;
-    if (dt != 0.0) {
-      mat.update(z.material_state.data(), de, z.stress, z.szz);
-      z.strain += de;
-    }
-    Voigt3 s = z.stress;
-    if (beta_stiffness != 0.0)
-      s += beta_stiffness * plane_strain_elasticity(mat.bulk_modulus(), mat.shear_modulus()) * rate;
+  // On the mid-step configuration a rigid turn by theta has spin (2/dt) tan(theta/2) (Cayley
+  // transform): the stress turns by exactly theta, whose cosine and sine follow from
+  // tau = tan(theta/2) without trigonometric functions: cos = (1 - tau^2)/(1 + tau^2),
+  // sin = 2 tau/(1 + tau^2) (the atan, sin and cos they replace took 18 % of a laboratory DEM
+  // run; docs/performance.md).
+  const double tau = 0.5 * spin * dt;
+  if (tau != 0.0) {
+    const double inv1 = 1.0 / (1.0 + tau * tau);
+    const double cr = (1.0 - tau * tau) * inv1, sr = 2.0 * tau * inv1;
+    rotate_tensor(cr, sr, z.stress[0], z.stress[1], z.stress[2]);
+    double exy = 0.5 * z.strain[2];
+    rotate_tensor(cr, sr, z.strain[0], z.strain[1], exy);
+    z.strain[2] = 2.0 * exy;
+  }
 
-    // f_n = -A B_n^T sigma = -(1/2) (b_n sxx + c_n sxy, c_n syy + b_n sxy): the 2A of the
-    // gradients cancels the area, leaving the traction on the side opposite node n.
-    GridPoint* g[3] = {&g0, &g1, &g2};
-    for (int k = 0; k < 3; ++k) {
-      g[k]->f.x() -= 0.5 * (b[k] * s[0] + c[k] * s[2]);
-      g[k]->f.y() -= 0.5 * (c[k] * s[1] + b[k] * s[2]);
-    }
+  const RockMaterialBase& mat = *m.materials[z.material];
+  const Voigt3 de = rate * dt;
+  if (dt != 0.0) {
+    mat.update(z.material_state.data(), de, z.stress, z.szz);
+    z.strain += de;
+  }
+  Voigt3 s = z.stress;
+  if (beta_stiffness != 0.0)
+    s += beta_stiffness * plane_strain_elasticity(mat.bulk_modulus(), mat.shear_modulus()) * rate;
+
+  // f_n = -A B_n^T sigma = -(1/2) (b_n sxx + c_n sxy, c_n syy + b_n sxy): the 2A of the
+  // gradients cancels the area, leaving the traction on the side opposite node n.
+  for (int k = 0; k < 3; ++k) {
+    f[2 * k] = 0.5 * (b[k] * s[0] + c[k] * s[2]);
+    f[2 * k + 1] = 0.5 * (c[k] * s[1] + b[k] * s[2]);
+  }
+}
+
+void add_zone_forces(Model& m, int iz, const double f[6]) {
+  const Zone& z = m.zones[static_cast<std::size_t>(iz)];
+  for (int k = 0; k < 3; ++k) {
+    GridPoint& g = m.gp[static_cast<std::size_t>(z.n[static_cast<std::size_t>(k)])];
+    g.f.x() -= f[2 * k];
+    g.f.y() -= f[2 * k + 1];
+  }
+}
+
+}  // namespace
+
+// Which zone corners add to each gridpoint, for the threaded loops: the slots 3 iz + k (corner k
+// of zone iz) of the owned zones, gridpoint by gridpoint in ascending zone order, so that a
+// gridpoint summing its slots in this order adds what one thread's zone loop adds, in its order.
+// Kept between steps; remade whenever the zones' corners, the gridpoints or the owned zones change
+// (an excavation, a restart, a new partition): each threaded pass compares the corners it reads.
+struct ZoneGather {
+  std::vector<std::array<int, 3>> corners;      // per zone, as when made
+  std::vector<std::array<int, 2>> zone_ranges;  // the owned zones then
+  bool decomposed = false;
+  std::size_t gridpoints = 0;
+  std::vector<int> start;  // per gridpoint: its slots are slot[start[i] .. start[i + 1])
+  std::vector<int> slot;
+  std::vector<double> values;  // per slot (3 per zone) or per slot and direction (6 per zone)
+
+  bool fits(const Model& m) const {
+    return corners.size() == m.zones.size() && gridpoints == m.gp.size() && decomposed == m.part.decomposed() &&
+           (!decomposed || zone_ranges == m.part.zone_ranges);
+  }
+  bool same_corners(const Model& m) const {
+    for (std::size_t z = 0; z < m.zones.size(); ++z)
+      if (corners[z] != m.zones[z].n) return false;
+    return true;
+  }
+  void rebuild(const Model& m) {
+    corners.resize(m.zones.size());
+    for (std::size_t z = 0; z < m.zones.size(); ++z) corners[z] = m.zones[z].n;
+    zone_ranges = m.part.zone_ranges;
+    decomposed = m.part.decomposed();
+    gridpoints = m.gp.size();
+    start.assign(gridpoints + 1, 0);
+    for_owned_zones(m, [&](int iz) {
+      for (int g : m.zones[static_cast<std::size_t>(iz)].n) ++start[static_cast<std::size_t>(g) + 1];
+    });
+    for (std::size_t i = 1; i < start.size(); ++i) start[i] += start[i - 1];
+    slot.resize(static_cast<std::size_t>(start.back()));
+    std::vector<int> next(start.begin(), start.end() - 1);
+    for_owned_zones(m, [&](int iz) {
+      for (int k = 0; k < 3; ++k)
+        slot[static_cast<std::size_t>(next[static_cast<std::size_t>(m.zones[static_cast<std::size_t>(iz)].n[static_cast<std::size_t>(k)])]++)] = 3 * iz + k;
+    });
+  }
+};
+
+// This thread's table (the loops' workers reach it through a reference).
+ZoneGather& zone_gather() {
+  thread_local ZoneGather g;
+  return g;
+}
+
+void zone_forces(Model& m, double dt, double beta_stiffness, int threads) {
+  if (threads <= 1) {
+    for_owned_zones(m, [&](int iz) {
+      double f[6];
+      zone_update(m, iz, dt, beta_stiffness, f);
+      add_zone_forces(m, iz, f);
+    });
+    return;
+  }
+  // The zones on several threads, each writing its forces to its own slots; then each gridpoint,
+  // on several threads too, takes its zones' forces in zone order, as the loop above adds them
+  // (the same sums to the bit).
+  ZoneGather& gather = zone_gather();
+  std::vector<double>& forces = gather.values;
+  forces.resize(6 * m.zones.size());
+  std::atomic<bool> moved{false};
+  for_owned_zone_ranges(m, [&](int first, int last) {
+    threaded_for(threads, first, last, [&](std::ptrdiff_t iz) {
+      const auto z = static_cast<std::size_t>(iz);
+      if (z >= gather.corners.size() || gather.corners[z] != m.zones[z].n) moved.store(true, std::memory_order_relaxed);
+      zone_update(m, static_cast<int>(iz), dt, beta_stiffness, &forces[6 * z]);
+    });
+  });
+  if (moved || !gather.fits(m)) gather.rebuild(m);
+  for_owned_gridpoint_ranges(m, [&](int first, int last) {
+    threaded_for(threads, first, last, [&](std::ptrdiff_t i) {
+      GridPoint& g = m.gp[static_cast<std::size_t>(i)];
+      for (int e = gather.start[static_cast<std::size_t>(i)]; e < gather.start[static_cast<std::size_t>(i) + 1]; ++e) {
+        const auto k = static_cast<std::size_t>(gather.slot[static_cast<std::size_t>(e)]);
+        g.f.x() -= forces[2 * k];
+        g.f.y() -= forces[2 * k + 1];
+      }
+    });
   });
 }
 
-void zone_stiffness(Model& m) {
-  for_owned_zones(m, [&](int iz) {
-    const Zone& z = m.zones[static_cast<std::size_t>(iz)];
-    GridPoint* g[3] = {&m.gp[z.n[0]], &m.gp[z.n[1]], &m.gp[z.n[2]]};
-    double b[3], c[3];
-    const double a2 = cst_gradients(g[0]->x, g[1]->x, g[2]->x, b, c);
-    if (!(a2 > 0.0)) return;  // zone_forces reports inverted zones
-    const RockMaterialBase& mat = *m.materials[z.material];
-    const double a1 = mat.bulk_modulus() + 4.0 * mat.shear_modulus() / 3.0;
-    const double al = mat.bulk_modulus() - 2.0 * mat.shear_modulus() / 3.0;
-    const double gs = mat.shear_modulus();
-    // K_mn = A B_m^T D B_n with B_n = [b 0; 0 c; c b]/(2A): K_mn = (D-weighted products)/(4A).
-    const double f = 1.0 / (2.0 * a2);
-    for (int mi = 0; mi < 3; ++mi) {
-      double row_x = 0.0, row_y = 0.0;
-      for (int n = 0; n < 3; ++n) {
-        const double kxx = f * (a1 * b[mi] * b[n] + gs * c[mi] * c[n]);
-        const double kxy = f * (al * b[mi] * c[n] + gs * c[mi] * b[n]);
-        const double kyx = f * (al * c[mi] * b[n] + gs * b[mi] * c[n]);
-        const double kyy = f * (a1 * c[mi] * c[n] + gs * b[mi] * b[n]);
-        row_x += std::abs(kxx) + std::abs(kxy);
-        row_y += std::abs(kyx) + std::abs(kyy);
-      }
-      g[mi]->stiffness += std::max(row_x, row_y);
+namespace {
+
+// One zone's contribution to the stiffness of its three gridpoints (0 for an inverted zone, which
+// zone_forces reports).
+void zone_stiffness_of(const Model& m, int iz, double k[3]) {
+  const Zone& z = m.zones[static_cast<std::size_t>(iz)];
+  const GridPoint* g[3] = {&m.gp[z.n[0]], &m.gp[z.n[1]], &m.gp[z.n[2]]};
+  k[0] = k[1] = k[2] = 0.0;
+  double b[3], c[3];
+  const double a2 = cst_gradients(g[0]->x, g[1]->x, g[2]->x, b, c);
+  if (!(a2 > 0.0)) return;
+  const RockMaterialBase& mat = *m.materials[z.material];
+  const double a1 = mat.bulk_modulus() + 4.0 * mat.shear_modulus() / 3.0;
+  const double al = mat.bulk_modulus() - 2.0 * mat.shear_modulus() / 3.0;
+  const double gs = mat.shear_modulus();
+  // K_mn = A B_m^T D B_n with B_n = [b 0; 0 c; c b]/(2A): K_mn = (D-weighted products)/(4A).
+  const double f = 1.0 / (2.0 * a2);
+  for (int mi = 0; mi < 3; ++mi) {
+    double row_x = 0.0, row_y = 0.0;
+    for (int n = 0; n < 3; ++n) {
+      const double kxx = f * (a1 * b[mi] * b[n] + gs * c[mi] * c[n]);
+      const double kxy = f * (al * b[mi] * c[n] + gs * c[mi] * b[n]);
+      const double kyx = f * (al * c[mi] * b[n] + gs * b[mi] * c[n]);
+      const double kyy = f * (a1 * c[mi] * c[n] + gs * b[mi] * b[n]);
+      row_x += std::abs(kxx) + std::abs(kxy);
+      row_y += std::abs(kyx) + std::abs(kyy);
     }
+    k[mi] = std::max(row_x, row_y);
+  }
+}
+
+}  // namespace
+
+void zone_stiffness(Model& m, int threads) {
+  auto add = [&](int iz, const double k[3]) {
+    const Zone& z = m.zones[static_cast<std::size_t>(iz)];
+    for (int i = 0; i < 3; ++i) m.gp[static_cast<std::size_t>(z.n[static_cast<std::size_t>(i)])].stiffness += k[i];
+  };
+  if (threads <= 1) {
+    for_owned_zones(m, [&](int iz) {
+      double k[3];
+      zone_stiffness_of(m, iz, k);
+      add(iz, k);
+    });
+    return;
+  }
+  // As zone_forces: the zones on several threads, then each gridpoint takes its zones' shares in
+  // zone order.
+  ZoneGather& gather = zone_gather();
+  if (!gather.fits(m) || !gather.same_corners(m)) gather.rebuild(m);
+  std::vector<double>& ks = gather.values;
+  ks.resize(3 * m.zones.size());
+  for_owned_zone_ranges(m, [&](int first, int last) {
+    threaded_for(threads, first, last, [&](std::ptrdiff_t iz) { zone_stiffness_of(m, static_cast<int>(iz), &ks[3 * static_cast<std::size_t>(iz)]); });
+  });
+  for_owned_gridpoint_ranges(m, [&](int first, int last) {
+    threaded_for(threads, first, last, [&](std::ptrdiff_t i) {
+      GridPoint& g = m.gp[static_cast<std::size_t>(i)];
+      for (int e = gather.start[static_cast<std::size_t>(i)]; e < gather.start[static_cast<std::size_t>(i) + 1]; ++e)
+        g.stiffness += ks[static_cast<std::size_t>(gather.slot[static_cast<std::size_t>(e)])];
+    });
   });
 }
 

@@ -47,15 +47,17 @@ int add_deformable_block(Model& m, const TriMesh& mesh, int material, const std:
 //  5. gridpoint forces f -= A * B^T * sigma with the current area and B (forces at time t),
 //     added to GridPoint::f.
 // Throws InstabilityError naming the zone, its block and the step if a zone turns inside out.
-void zone_forces(Model& m, double dt, double beta_stiffness);
+// With threads > 1 the zones are updated on that many threads (core/threads.hpp); the forces are
+// added to the gridpoints in zone order all the same, so the results are those of one thread.
+void zone_forces(Model& m, double dt, double beta_stiffness, int threads = 1);
 
 // Adds to GridPoint::stiffness, for gridpoints of deformable blocks, the absolute row sum of
 // each zone's stiffness matrix A*B^T*D*B over the gridpoint's two rows (the larger of the x and y
 // rows), D built from K + 4G/3 and K - 2G/3 (plane strain). By Gershgorin's theorem, max_i
 // k_i/m_i bounds the largest eigenvalue of M^-1 K, so central differences with lumped masses
 // are stable (undamped) for dt <= 2 min_i sqrt(m_i/k_i) (Belytschko, Liu & Moran, Nonlinear Finite
-// Elements for Continua and Structures, ch. 6). Uses the current positions.
-void zone_stiffness(Model& m);
+// Elements for Continua and Structures, ch. 6). Uses the current positions. Threads as zone_forces.
+void zone_stiffness(Model& m, int threads = 1);
 
 // Plane-strain isotropic elastic matrix acting on (exx, eyy, gxy) [Pa].
 Eigen::Matrix3d plane_strain_elasticity(double bulk, double shear);

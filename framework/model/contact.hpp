@@ -124,6 +124,8 @@ class ContactStore {
   std::size_t merge(std::vector<Contact>&& found);
 
   const Contact* find(const ContactKey& k) const;
+  // With the caller's own look-up hint (threads of one detection each keep theirs).
+  const Contact* find(const ContactKey& k, std::size_t& hint) const;
 
   // Replace the contact list as it is, law state included (checkpoint restore), and rebuild the
   // index; unlike merge() nothing is re-initialised.

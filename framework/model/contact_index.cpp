@@ -20,14 +20,16 @@ void ContactIndex::rebuild(const std::vector<Contact>& items) {
   hint_ = 0;
 }
 
-std::ptrdiff_t ContactIndex::find(const std::vector<Contact>& items, const ContactKey& k) const {
-  if (hint_ < items.size() && items[hint_].key == k) return static_cast<std::ptrdiff_t>(hint_++);
+std::ptrdiff_t ContactIndex::find(const std::vector<Contact>& items, const ContactKey& k) const { return find(items, k, hint_); }
+
+std::ptrdiff_t ContactIndex::find(const std::vector<Contact>& items, const ContactKey& k, std::size_t& hint) const {
+  if (hint < items.size() && items[hint].key == k) return static_cast<std::ptrdiff_t>(hint++);
   if (slots_.empty()) return -1;
   const std::size_t mask = slots_.size() - 1;
   for (std::size_t s = ContactKeyHash{}(k) & mask; slots_[s] >= 0; s = (s + 1) & mask) {
     const auto i = static_cast<std::size_t>(slots_[s]);
     if (i < items.size() && items[i].key == k) {
-      hint_ = i + 1;
+      hint = i + 1;
       return slots_[s];
     }
   }

@@ -20,6 +20,9 @@ class ContactIndex {
   void rebuild(const std::vector<Contact>& items);
   // Position of `k` in the list last indexed, or -1.
   std::ptrdiff_t find(const std::vector<Contact>& items, const ContactKey& k) const;
+  // The same with the caller's own hint (a thread of a threaded detection scans its own stretch
+  // of the list): the answer does not depend on the hint, only how soon it comes.
+  std::ptrdiff_t find(const std::vector<Contact>& items, const ContactKey& k, std::size_t& hint) const;
 
  private:
   std::vector<std::ptrdiff_t> slots_;  // positions in the list, -1 empty; size a power of two

@@ -58,4 +58,9 @@ const Contact* ContactStore::find(const ContactKey& k) const {
   return at < 0 ? nullptr : &items[static_cast<std::size_t>(at)];
 }
 
+const Contact* ContactStore::find(const ContactKey& k, std::size_t& hint) const {
+  const std::ptrdiff_t at = index_.find(items, k, hint);
+  return at < 0 ? nullptr : &items[static_cast<std::size_t>(at)];
+}
+
 }  // namespace rockdem

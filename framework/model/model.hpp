@@ -100,7 +100,31 @@ void for_each_in(bool decomposed, std::size_t n, const std::vector<std::array<in
   for (const auto& r : ranges)
     for (int i = r[0]; i < r[1]; ++i) f(i);
 }
+// f(first, last) for [0, n) in a serial run, else for each of the ranges.
+template <class F>
+void for_ranges_in(bool decomposed, std::size_t n, const std::vector<std::array<int, 2>>& ranges, F&& f) {
+  if (!decomposed) {
+    if (n > 0) f(0, static_cast<int>(n));
+    return;
+  }
+  for (const auto& r : ranges) f(r[0], r[1]);
+}
 }  // namespace detail
+
+// Calls f(first, last) for each range [first, last) of gridpoints (zones, blocks) this process
+// owns, ascending: one range [0, n) in a serial run. For loops that split a range over threads.
+template <class F>
+void for_owned_gridpoint_ranges(const Model& m, F&& f) {
+  detail::for_ranges_in(m.part.decomposed(), m.gp.size(), m.part.gp_ranges, f);
+}
+template <class F>
+void for_owned_zone_ranges(const Model& m, F&& f) {
+  detail::for_ranges_in(m.part.decomposed(), m.zones.size(), m.part.zone_ranges, f);
+}
+template <class F>
+void for_owned_block_ranges(const Model& m, F&& f) {
+  detail::for_ranges_in(m.part.decomposed(), m.blocks.size(), m.part.block_ranges, f);
+}
 
 template <class F>
 void for_owned_gridpoints(const Model& m, F&& f) {

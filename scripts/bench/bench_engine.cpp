@@ -1,12 +1,12 @@
 // Engine throughput (a plain timed executable, not a test; no thresholds):
 //
-//   rockdem_bench_engine zones    [--cells N] [--steps N] [--reps N]
+//   rockdem_bench_engine zones    [--cells N] [--steps N] [--reps N] [--threads T]
 //       One deformable 1 m x 1 m tuff block (elastic, Table 4-1 test 9 moduli), fixed base,
 //       gravity, meshed as N x N cells x 2 CST zones (N = 100: 20,000 zones), stepped with local
 //       damping. Reports zone-steps per second per core.
 //
 //   rockdem_bench_engine contacts [--rows N] [--width W] [--steps N] [--reps N] [--seed S]
-//                                 [--squeeze D] [--lammps DIR] [--chunk N]
+//                                 [--squeeze D] [--lammps DIR] [--chunk N] [--threads T]
 //       A packed assembly of rigid convex hexagons under gravity on a fixed base: a dry-stone
 //       wall of N courses (default 50 x 12 m, about 2,700 blocks) with random block lengths and
 //       staggered open head joints (seeded, deterministic; see make_packing), each course sitting
@@ -18,6 +18,9 @@
 //       step count (DIR/packing.data, DIR/in.packing); see scripts/bench/compare_lammps.sh.
 //       --chunk N runs the steps as calls of Engine::run_steps(N), as `rockdem run` does with
 //       N = 10 (each call checks the state); default: one call.
+//
+//   --threads T (both): the engine's loops on T threads (EngineSettings::threads; default 1).
+//       The rates are then those of the process, not of one core; the CPU time is all threads'.
 //
 // Output: human-readable lines and one machine-readable line per repetition starting "RESULT"
 // (wall seconds and process CPU seconds of the timed loop). Timing covers Engine::run_steps only (model building, first contact detection and the stable
@@ -99,6 +102,7 @@ int bench_zones(const Args& a) {
     m.contacts.model_names.push_back("joint");
     m.contacts.assignments.push_back({-1, -1, 0});
     EngineSettings s;
+    s.threads = static_cast<int>(a.num("threads", 1));
     Engine e(m, s);
     e.add_condition(std::make_unique<FixedCondition>(select_face(m, b, Vec2(0.0, -1.0)), true, true, false));
     e.begin_stage("bench", Damping{});
@@ -353,6 +357,7 @@ int bench_contacts(const Args& a) {
     std::vector<int> walls;
     auto m = build_contact_model(pk, cp, walls);
     EngineSettings s;
+    s.threads = static_cast<int>(a.num("threads", 1));
     s.detection.distance = cp.rounding + cp.tolerance;
     Engine e(*m, s);
     add_walls(e, *m, walls);
@@ -386,6 +391,7 @@ int bench_contacts(const Args& a) {
     std::vector<int> walls;
     auto m = build_contact_model(pk, cp, walls);
     EngineSettings s;
+    s.threads = static_cast<int>(a.num("threads", 1));
     s.detection.distance = cp.rounding + cp.tolerance;
     s.fixed_dt = dt;
     Engine e(*m, s);

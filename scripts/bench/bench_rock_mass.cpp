@@ -1,7 +1,7 @@
 // How one contact-detection pass and one step grow with the size of a jointed rock mass (a plain
 // timed executable, not a test; no thresholds):
 //
-//   rockdem_bench_rock_mass [--blocks N] [--deformable 0|1] [--cells C] [--passes N] [--steps N]
+//   rockdem_bench_rock_mass [--blocks N] [--deformable 0|1] [--cells C] [--passes N] [--steps N] [--threads T]
 //
 // The rock mass: a rectangle cut by two orthogonal joint sets at 1 m spacing into about N square
 // blocks (side ceil(sqrt(N)) blocks), the vertical joints of every other row shifted by half a
@@ -13,7 +13,8 @@
 // Timed, after one detection and the stable step outside the clock: `passes` calls of
 // detect_contacts (one detection pass: broad phase, narrow phase, merge, contact lengths), then
 // `steps` engine steps (local damping; a detection every 10 steps, the engine default). Prints
-// per pass and per step, in microseconds per block, and a RESULT line.
+// per pass and per step, in microseconds per block, and a RESULT line. --threads T: the engine's
+// loops on T threads (EngineSettings::threads); CPU figures are then all threads' together.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -78,7 +79,7 @@ int main(int argc, char** argv) {
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string k = argv[i];
     if (k.rfind("--", 0) != 0) {
-      std::fprintf(stderr, "usage: %s [--blocks N] [--deformable 0|1] [--cells C] [--passes N] [--steps N]\n", argv[0]);
+      std::fprintf(stderr, "usage: %s [--blocks N] [--deformable 0|1] [--cells C] [--passes N] [--steps N] [--threads T]\n", argv[0]);
       return 2;
     }
     kv[k.substr(2)] = argv[i + 1];
@@ -93,6 +94,7 @@ int main(int argc, char** argv) {
     const int base = build(m, side, deformable, cells);
     EngineSettings s;
     s.detection.distance = 2e-3;
+    s.threads = static_cast<int>(arg(kv, "threads", 1));
     Engine e(m, s);
     FaceSelection sel;
     sel.block = base;
@@ -102,14 +104,14 @@ int main(int argc, char** argv) {
     const std::size_t nb = m.blocks.size() - 1;
     auto t0 = Clock::now();
     double c0 = cpu_now();
-    for (int i = 0; i < passes; ++i) detect_contacts(m, s.detection);
+    for (int i = 0; i < passes; ++i) detect_contacts(m, s.detection, s.threads);
     const double detect_wall = std::chrono::duration<double>(Clock::now() - t0).count() / passes;
     const double detect_cpu = (cpu_now() - c0) / passes;
     const std::size_t contacts = m.contacts.items.size();
     // The parts of a pass: the contact lengths alone (update_contact_lengths, part of every pass).
     t0 = Clock::now();
     c0 = cpu_now();
-    for (int i = 0; i < passes; ++i) update_contact_lengths(m, s.detection);
+    for (int i = 0; i < passes; ++i) update_contact_lengths(m, s.detection, s.threads);
     const double lengths_cpu = (cpu_now() - c0) / passes;
     t0 = Clock::now();
     c0 = cpu_now();
