@@ -446,7 +446,6 @@ void update_contact_lengths(Model& m, const DetectionSettings& s, int threads) {
   ClusterBuffers& cb = cluster_buffers();
   auto& clusters = cb.clusters;
   clusters.clear();
-  cb.spans.clear();
   cb.pairs.reset(items.size());
   // The clusters, in contact order (a cluster's normal is its first contact's); then each
   // contact's stretch on its cluster's tangent, on several threads (each writes its own span).

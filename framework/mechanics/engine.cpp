@@ -294,70 +294,70 @@ void Engine::compute_time_step() {
   dt_ = dt;
 }
 
-bool Engine::update_contact(Contact& c) const {
-  const Block& B = m_.blocks[c.other];
-  const int n = static_cast<int>(B.boundary.size());
-  const int ga = B.boundary[c.edge], gb = B.boundary[(c.edge + 1) % n];
-  const Vec2 vb = (1.0 - c.s) * m_.gp[ga].v + c.s * m_.gp[gb].v;
-  const Vec2 vrel = m_.gp[c.point].v - vb;
-  const Vec2 t(c.normal.y(), -c.normal.x());
-  JointKinematics k;
-  k.du_n = vrel.dot(c.normal) * dt_;
-  k.du_s = vrel.dot(t) * dt_;
-  k.dt = dt_;
-  k.length = c.length;
-  if (c.pretouch_gap > 0.0) {
-    // Not touching yet: geometry decides (the rounded-corner distance), and the law starts at
-    // first touch with the penetration found then, so a point that slides in under an edge of
-    // the other block picks up the stress the joint carries there.
-    const double gap = -c.overlap;
-    if (gap > 0.0) {
-      c.pretouch_gap = gap;
-      c.response.open = true;
-      return false;
-    }
-    k.du_n = gap;
-    c.pretouch_gap = 0.0;
-  }
-  if (c.pending_closure > 0.0) {
-    k.du_n -= c.pending_closure;
-    c.pending_closure = 0.0;
-  }
-  m_.contacts.models[c.joint]->update(c.state, k, c.response);
-  c.fresh = false;
-  return true;
-}
-
-void Engine::add_contact_force(const Contact& c) {
-  const Block& B = m_.blocks[c.other];
-  const int n = static_cast<int>(B.boundary.size());
-  const int ga = B.boundary[c.edge], gb = B.boundary[(c.edge + 1) % n];
-  const Vec2 f = c.force();
-  m_.gp[c.point].f += f;
-  m_.gp[ga].f -= (1.0 - c.s) * f;
-  m_.gp[gb].f -= c.s * f;
-  // Counted once, by the process owning the contact's point (a contact between two processes'
-  // blocks is computed on both).
-  if (m_.part.owns(m_.gp[c.point].block)) applied_sum_ += 2.0 * f.norm();
-  block_contact_force_[m_.gp[c.point].block] += f;
-  block_contact_force_[c.other] -= f;
-}
-
 void Engine::contact_forces() {
   block_contact_force_.assign(m_.blocks.size(), Vec2::Zero());
+  // One contact's joint-law update for this step; false where it does not act yet (not touching).
+  auto update = [&](Contact& c) -> bool {
+    const Block& B = m_.blocks[c.other];
+    const int n = static_cast<int>(B.boundary.size());
+    const int ga = B.boundary[c.edge], gb = B.boundary[(c.edge + 1) % n];
+    const Vec2 vb = (1.0 - c.s) * m_.gp[ga].v + c.s * m_.gp[gb].v;
+    const Vec2 vrel = m_.gp[c.point].v - vb;
+    const Vec2 t(c.normal.y(), -c.normal.x());
+    JointKinematics k;
+    k.du_n = vrel.dot(c.normal) * dt_;
+    k.du_s = vrel.dot(t) * dt_;
+    k.dt = dt_;
+    k.length = c.length;
+    if (c.pretouch_gap > 0.0) {
+      // Not touching yet: geometry decides (the rounded-corner distance), and the law starts at
+      // first touch with the penetration found then, so a point that slides in under an edge of
+      // the other block picks up the stress the joint carries there.
+      const double gap = -c.overlap;
+      if (gap > 0.0) {
+        c.pretouch_gap = gap;
+        c.response.open = true;
+        return false;
+      }
+      k.du_n = gap;
+      c.pretouch_gap = 0.0;
+    }
+    if (c.pending_closure > 0.0) {
+      k.du_n -= c.pending_closure;
+      c.pending_closure = 0.0;
+    }
+    m_.contacts.models[c.joint]->update(c.state, k, c.response);
+    c.fresh = false;
+    return true;
+  };
+  // Its force on the gridpoints and the blocks' sums.
+  auto add = [&](const Contact& c) {
+    const Block& B = m_.blocks[c.other];
+    const int n = static_cast<int>(B.boundary.size());
+    const int ga = B.boundary[c.edge], gb = B.boundary[(c.edge + 1) % n];
+    const Vec2 f = c.force();
+    m_.gp[c.point].f += f;
+    m_.gp[ga].f -= (1.0 - c.s) * f;
+    m_.gp[gb].f -= c.s * f;
+    // Counted once, by the process owning the contact's point (a contact between two processes'
+    // blocks is computed on both).
+    if (m_.part.owns(m_.gp[c.point].block)) applied_sum_ += 2.0 * f.norm();
+    block_contact_force_[m_.gp[c.point].block] += f;
+    block_contact_force_[c.other] -= f;
+  };
   auto& items = m_.contacts.items;
   if (s_.threads <= 1) {
     for (Contact& c : items)
-      if (update_contact(c)) add_contact_force(c);
+      if (update(c)) add(c);
     return;
   }
   // The joint laws on several threads (each contact's state is its own); then the forces added
   // in contact order on this thread, as the loop above adds them.
   acting_.resize(items.size());
   threaded_for(s_.threads, 0, static_cast<std::ptrdiff_t>(items.size()),
-               [&](std::ptrdiff_t i) { acting_[static_cast<std::size_t>(i)] = update_contact(items[static_cast<std::size_t>(i)]); });
+               [&](std::ptrdiff_t i) { acting_[static_cast<std::size_t>(i)] = update(items[static_cast<std::size_t>(i)]); });
   for (std::size_t i = 0; i < items.size(); ++i)
-    if (acting_[i]) add_contact_force(items[i]);
+    if (acting_[i]) add(items[i]);
 }
 
 std::map<std::string, std::vector<double>> Engine::saved_state() const {
@@ -633,7 +633,7 @@ void Engine::integrate() {
   // and added up afterwards in gridpoint order, so that their sum is that of one thread.
   const bool one_thread = s_.threads <= 1;
   if (!one_thread) unbalanced_gp_.resize(2 * m_.gp.size());
-  auto update = [&](std::ptrdiff_t gi) {
+  auto update = [&]<bool kOneThread>(std::ptrdiff_t gi) {
     const auto i = static_cast<std::size_t>(gi);
     GridPoint& g = m_.gp[i];
     if (m_.blocks[g.block].rigid) return;
@@ -641,7 +641,7 @@ void Engine::integrate() {
     Vec2 f = g.f - am * mi * g.v;
     for (int d = 0; d < 2; ++d) {
       if (d == 0 ? g.fixed_x : g.fixed_y) continue;
-      if (one_thread) unbalanced += std::abs(f[d]);
+      if constexpr (kOneThread) unbalanced += std::abs(f[d]);
       else unbalanced_gp_[2 * i + static_cast<std::size_t>(d)] = std::abs(f[d]);
       double fd = f[d];
       if (local) {
@@ -654,9 +654,11 @@ void Engine::integrate() {
     }
   };
   if (one_thread) {
-    for_owned_gridpoints(m_, update);
+    for_owned_gridpoints(m_, [&](int i) { update.template operator()<true>(i); });
   } else {
-    for_owned_gridpoint_ranges(m_, [&](int first, int last) { threaded_for(s_.threads, first, last, update); });
+    for_owned_gridpoint_ranges(m_, [&](int first, int last) {
+      threaded_for(s_.threads, first, last, [&](std::ptrdiff_t i) { update.template operator()<false>(i); });
+    });
     for_owned_gridpoints(m_, [&](int gi) {
       const auto i = static_cast<std::size_t>(gi);
       const GridPoint& g = m_.gp[i];

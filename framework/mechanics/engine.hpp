@@ -123,9 +123,6 @@ class Engine {
  private:
   void compute_time_step();
   void contact_forces();
-  // One contact's joint-law update for this step; false where it does not act yet (not touching).
-  bool update_contact(Contact& c) const;
-  void add_contact_force(const Contact& c);  // its force on the gridpoints and the block sums
   void integrate();
   void check_state();
   void sum_energy();  // the energy terms of all processes (decomposed runs)

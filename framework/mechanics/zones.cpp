@@ -145,9 +145,11 @@ int add_deformable_block(Model& m, const TriMesh& mesh, int material, const std:
 
 namespace {
 
-// One zone's update (steps 1-4 of zone_forces) and the forces it puts on its three gridpoints,
-// (fx, fy) per corner in `f`; the gridpoints are not touched.
-void zone_update(Model& m, int iz, double dt, double beta_stiffness, double f[6]) {
+// One zone's update (steps 1-4 of zone_forces) and the forces it puts on its three gridpoints:
+// force(k, fx, fy) for corner k, whose gridpoint takes -(fx, fy) (one thread: at once; several:
+// later, in zone order).
+template <class Force>
+void zone_update(Model& m, int iz, double dt, double beta_stiffness, Force&& force) {
   Zone& z = m.zones[static_cast<std::size_t>(iz)];
   const GridPoint& g0 = m.gp[z.n[0]];
   const GridPoint& g1 = m.gp[z.n[1]];
@@ -205,19 +207,7 @@ void zone_update(Model& m, int iz, double dt, double beta_stiffness, double f[6]
 
   // f_n = -A B_n^T sigma = -(1/2) (b_n sxx + c_n sxy, c_n syy + b_n sxy): the 2A of the
   // gradients cancels the area, leaving the traction on the side opposite node n.
-  for (int k = 0; k < 3; ++k) {
-    f[2 * k] = 0.5 * (b[k] * s[0] + c[k] * s[2]);
-    f[2 * k + 1] = 0.5 * (c[k] * s[1] + b[k] * s[2]);
-  }
-}
-
-void add_zone_forces(Model& m, int iz, const double f[6]) {
-  const Zone& z = m.zones[static_cast<std::size_t>(iz)];
-  for (int k = 0; k < 3; ++k) {
-    GridPoint& g = m.gp[static_cast<std::size_t>(z.n[static_cast<std::size_t>(k)])];
-    g.f.x() -= f[2 * k];
-    g.f.y() -= f[2 * k + 1];
-  }
+  for (int k = 0; k < 3; ++k) force(k, 0.5 * (b[k] * s[0] + c[k] * s[2]), 0.5 * (c[k] * s[1] + b[k] * s[2]));
 }
 
 }  // namespace
@@ -274,9 +264,12 @@ ZoneGather& zone_gather() {
 void zone_forces(Model& m, double dt, double beta_stiffness, int threads) {
   if (threads <= 1) {
     for_owned_zones(m, [&](int iz) {
-      double f[6];
-      zone_update(m, iz, dt, beta_stiffness, f);
-      add_zone_forces(m, iz, f);
+      const Zone& z = m.zones[static_cast<std::size_t>(iz)];
+      zone_update(m, iz, dt, beta_stiffness, [&](int k, double fx, double fy) {
+        GridPoint& g = m.gp[static_cast<std::size_t>(z.n[static_cast<std::size_t>(k)])];
+        g.f.x() -= fx;
+        g.f.y() -= fy;
+      });
     });
     return;
   }
@@ -291,7 +284,11 @@ void zone_forces(Model& m, double dt, double beta_stiffness, int threads) {
     threaded_for(threads, first, last, [&](std::ptrdiff_t iz) {
       const auto z = static_cast<std::size_t>(iz);
       if (z >= gather.corners.size() || gather.corners[z] != m.zones[z].n) moved.store(true, std::memory_order_relaxed);
-      zone_update(m, static_cast<int>(iz), dt, beta_stiffness, &forces[6 * z]);
+      double* slot = &forces[6 * z];
+      zone_update(m, static_cast<int>(iz), dt, beta_stiffness, [&](int k, double fx, double fy) {
+        slot[2 * k] = fx;
+        slot[2 * k + 1] = fy;
+      });
     });
   });
   if (moved || !gather.fits(m)) gather.rebuild(m);
