@@ -328,7 +328,7 @@ const CommandRegistrar reg{Command{
           if (*threads > 1 && cores > 0 && *threads > cores)
             c.warnings.push_back("--threads " + std::to_string(*threads) + ": this process may use " + std::to_string(cores) +
                                  (cores == 1 ? " core" : " cores") +
-                                 " (its CPU affinity; mpirun binds each process to one core unless given --bind-to none or "
+                                 " (its CPU affinity; Open MPI binds each of up to two processes to one core unless given --bind-to none or "
                                  "--map-by slot:PE=" + std::to_string(*threads) + "), so its threads will take turns");
         }
         // Before any output folder is made: a --write-blocks look at the case shows them too.

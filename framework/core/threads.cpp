@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <exception>
 #include <mutex>
 #include <thread>
 #include <vector>
@@ -16,6 +17,9 @@ namespace {
 // tens to hundreds of microseconds within a step: a thread asleep takes a system call and a
 // scheduler wake-up to start again, one awake starts at once.
 constexpr auto kSpin = std::chrono::microseconds(2000);
+
+// Whether this thread is running a share of a loop (a worker always is).
+thread_local bool inside_job = false;
 
 // Returns once `word` is no longer `old`: looks again and again for kSpin, giving up its core at
 // every turn (sched_yield: a thread with work, of this process or of another on the same core,
@@ -53,13 +57,22 @@ class Team {
     pending_.store(static_cast<std::uint32_t>(workers_.size()), std::memory_order_release);
     generation_.fetch_add(1, std::memory_order_acq_rel);
     generation_.notify_all();
-    job(context, 0);
+    // The workers are waited for even if this thread's share throws (the job must not, but a run
+    // that returned early would leave them working on a finished caller's stack).
+    std::exception_ptr error;
+    try {
+      job(context, 0);
+    } catch (...) {
+      error = std::current_exception();
+    }
     for (std::uint32_t p = pending_.load(std::memory_order_acquire); p != 0; p = pending_.load(std::memory_order_acquire))
       await_change(pending_, p);
+    if (error) std::rethrow_exception(error);
   }
 
  private:
   void work(int index, std::uint32_t seen) {
+    inside_job = true;  // a loop a job starts runs on this thread (run_on_team)
     for (;;) {
       await_change(generation_, seen);
       seen = generation_.load(std::memory_order_acquire);
@@ -81,9 +94,19 @@ class Team {
 }  // namespace
 
 void run_on_team(int threads, void (*job)(void*, int), void* context) {
+  // A loop started inside a loop's job (not done today) runs on its thread, share by share: the
+  // team is busy with the outer loop and waiting for it would never end.
+  if (inside_job) {
+    for (int t = 0; t < threads; ++t) job(context, t);
+    return;
+  }
   static Team team;
   static std::mutex one_at_a_time;  // two engines stepping on two threads take turns with the team
   const std::lock_guard<std::mutex> lock(one_at_a_time);
+  inside_job = true;
+  struct Leave {
+    ~Leave() { inside_job = false; }
+  } leave;
   team.run(threads, job, context);
 }
 

@@ -27,7 +27,8 @@ inline constexpr std::ptrdiff_t kThreadedLoopMin = 256;
 namespace detail {
 // Runs job(context, t) for t = 0 .. threads - 1, t = 0 on the calling thread and the others on
 // the process's team (started at first use, grown when more are asked for); returns when all
-// are done. job must not throw. Calls from several threads at once take turns.
+// are done. job must not throw. Calls from several threads at once take turns; a call from inside
+// a job runs all its shares on that thread.
 void run_on_team(int threads, void (*job)(void*, int), void* context);
 
 // The lowest failing item's exception, kept while the team runs.

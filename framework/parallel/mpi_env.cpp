@@ -26,7 +26,10 @@ MpiEnvironment::MpiEnvironment(int& argc, char**& argv) {
     active_ = false;
     return;
   }
-  if (!initialized) MPI_Init(&argc, &argv);
+  // A process may run its loops on threads of its own (--threads, core/threads.hpp); only the
+  // thread that started MPI calls it, which MPI_THREAD_FUNNELED declares.
+  int provided = 0;
+  if (!initialized) MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
   MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
   MPI_Comm_size(MPI_COMM_WORLD, &size_);
 }

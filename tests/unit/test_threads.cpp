@@ -32,6 +32,15 @@ TEST(Threads, EveryItemOnceOnAnyThreadCount) {
   }
 }
 
+TEST(Threads, ALoopInsideALoopRunsOnItsThread) {
+  // Not done by the engine today; it must neither hang nor lose items.
+  std::vector<std::atomic<int>> seen(600 * 300);
+  threaded_for(2, 0, 600, [&](std::ptrdiff_t i) {
+    threaded_for(3, 0, 300, [&](std::ptrdiff_t j) { seen[static_cast<std::size_t>(i * 300 + j)]++; });
+  });
+  for (const auto& s : seen) ASSERT_EQ(s.load(), 1);
+}
+
 TEST(Threads, TheErrorOfTheLowestItemWhateverTheThreadCount) {
   for (int threads : {1, 2, 4}) {
     try {
