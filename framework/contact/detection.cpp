@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #include "framework/contact/boundary_geometry.hpp"
@@ -582,6 +583,7 @@ void update_contact_lengths(Model& m, const DetectionSettings& s, int threads) {
       Contact& c = items[sp.c];
       if (!c.fresh || c.pending_closure <= 0.0 || c.pretouch_gap > 0.0) continue;
       const Contact* donor = nullptr;
+      std::size_t donor_at = 0;
       double best = kInf;
       for (std::size_t q = cb.start[cl]; q < cb.start[cl + 1]; ++q) {
         const ClusterSpan& o = *cb.sorted[q];
@@ -589,9 +591,10 @@ void update_contact_lengths(Model& m, const DetectionSettings& s, int threads) {
         if (d.fresh || !o.touching || d.joint != c.joint || std::abs(o.at - sp.at) >= best) continue;
         best = std::abs(o.at - sp.at);
         donor = &d;
+        donor_at = o.c;
       }
       if (!donor) continue;
-      c.state = donor->state;
+      std::memcpy(m.contacts.states.at(sp.c), m.contacts.states.at(donor_at), m.contacts.states.stride());
       c.response = donor->response;
       c.pending_closure = 0.0;
     }

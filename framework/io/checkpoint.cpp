@@ -155,6 +155,12 @@ void write_contact_store(hid_t grp, const ContactStore& store, const std::string
   h5::write_attr<i32>(grp, "joint_models", static_cast<i32>(store.models.size()), f);
   h5::write_attr_string(grp, "joint_model_names", joint_model_names(store), f);
   write_fields(grp, fields::kContactFields, store.items, f);
+  // The joint-law states, one row of the store's stride per contact (its model's state first,
+  // then zeros); files written before the states were sized by the models have 256 columns.
+  const std::size_t stride = store.states.stride();
+  std::vector<u8> state(store.items.size() * stride);
+  if (!state.empty()) std::memcpy(state.data(), store.states.at(0), state.size());
+  h5::write_dataset(grp, "state", h5::native_type<u8>(), state.data(), store.items.size(), stride, f);
 }
 
 }  // namespace
@@ -262,6 +268,7 @@ class Restore {
   std::vector<GridPoint> gp_;
   std::vector<Zone> zones_;
   std::vector<Contact> contacts_;
+  ContactStates states_;
 };
 
 void Restore::check_format() const {
@@ -405,6 +412,24 @@ void Restore::read_contacts() {
   contacts_.assign(nc_, Contact{});
   read_fields(g, fields::kContactFields, Role::state, contacts_);
   for (std::size_t i = 0; i < nc_; ++i) check_contact(i, nmodels);
+  // The states: as wide as the file's rows or the model's stride, whichever is less, each wide
+  // enough for its contact's joint model.
+  std::size_t width = 0;
+  {
+    h5::Handle ds(H5Dopen2(g.id(), "state", H5P_DEFAULT), H5Dclose);
+    if (!ds.valid()) throw InputError(where_ + ": dataset /contacts/state is missing");
+    width = nc_ > 0 ? static_cast<std::size_t>(h5::dataset_shape(ds).second) : 0;
+  }
+  const std::vector<u8> raw = g.get<u8>("state", nc_, width);
+  states_.reset(m_.contacts.state_stride(), nc_);
+  const std::size_t kept = std::min(width, states_.stride());
+  for (std::size_t i = 0; i < nc_; ++i) {
+    const std::size_t need = m_.contacts.models[static_cast<std::size_t>(contacts_[i].joint)]->state_size();
+    if (need > width)
+      mismatch("contact " + str(i) + "'s joint-law state has " + str(width) + " bytes in the file, its joint model needs " +
+               str(need));
+    std::memcpy(states_.at(i), raw.data() + i * width, kept);
+  }
 }
 
 void Restore::check_contact(std::size_t i, i32 nmodels) const {
@@ -437,7 +462,7 @@ void Restore::apply() {
   }
   for (std::size_t i = 0; i < ng_; ++i) restore_state(fields::kGridPointFields, gp_[i], m_.gp[i]);
   for (std::size_t i = 0; i < nz_; ++i) restore_state(fields::kZoneFields, zones_[i], m_.zones[i]);
-  m_.contacts.restore(std::move(contacts_));
+  m_.contacts.restore({std::move(contacts_), std::move(states_)});
 }
 
 CheckpointScalars read_impl(Model& m, const std::string& path) {

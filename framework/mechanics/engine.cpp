@@ -297,7 +297,8 @@ void Engine::compute_time_step() {
 void Engine::contact_forces() {
   block_contact_force_.assign(m_.blocks.size(), Vec2::Zero());
   // One contact's joint-law update for this step; false where it does not act yet (not touching).
-  auto update = [&](Contact& c) -> bool {
+  auto& states = m_.contacts.states;
+  auto update = [&](Contact& c, std::byte* state) -> bool {
     const Block& B = m_.blocks[c.other];
     const int n = static_cast<int>(B.boundary.size());
     const int ga = B.boundary[c.edge], gb = B.boundary[(c.edge + 1) % n];
@@ -326,7 +327,7 @@ void Engine::contact_forces() {
       k.du_n -= c.pending_closure;
       c.pending_closure = 0.0;
     }
-    m_.contacts.models[c.joint]->update(c.state, k, c.response);
+    m_.contacts.models[c.joint]->update(state, k, c.response);
     c.fresh = false;
     return true;
   };
@@ -347,15 +348,18 @@ void Engine::contact_forces() {
   };
   auto& items = m_.contacts.items;
   if (s_.threads <= 1) {
-    for (Contact& c : items)
-      if (update(c)) add(c);
+    for (std::size_t i = 0; i < items.size(); ++i)
+      if (update(items[i], states.at(i))) add(items[i]);
     return;
   }
   // The joint laws on several threads (each contact's state is its own); then the forces added
   // in contact order on this thread, as the loop above adds them.
   acting_.resize(items.size());
   threaded_for(s_.threads, 0, static_cast<std::ptrdiff_t>(items.size()),
-               [&](std::ptrdiff_t i) { acting_[static_cast<std::size_t>(i)] = update(items[static_cast<std::size_t>(i)]); });
+               [&](std::ptrdiff_t i) {
+                 const auto u = static_cast<std::size_t>(i);
+                 acting_[u] = update(items[u], states.at(u));
+               });
   for (std::size_t i = 0; i < items.size(); ++i)
     if (acting_[i]) add(items[i]);
 }
@@ -771,7 +775,8 @@ void ModelSnapshot::take(const Model& m) {
   // Copy-assignment keeps each vector's storage when it is large enough.
   gp = m.gp;
   zones = m.zones;
-  contacts = m.contacts.items;
+  contacts.items = m.contacts.items;
+  contacts.states = m.contacts.states;
   blocks.resize(m.blocks.size());
   for (std::size_t b = 0; b < blocks.size(); ++b) {
     const Block& B = m.blocks[b];
@@ -797,7 +802,7 @@ bool ModelSnapshot::put(Model& m) const {
     B.fixed = s.fixed;
     B.prescribed = s.prescribed;
   }
-  m.contacts.restore(std::vector<Contact>(contacts));
+  m.contacts.restore(ContactList(contacts));
   m.time = time;
   m.step = step;
   return true;

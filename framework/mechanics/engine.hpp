@@ -33,7 +33,7 @@ struct ModelSnapshot {
   std::vector<GridPoint> gp;
   std::vector<Zone> zones;
   std::vector<BlockMotion> blocks;
-  std::vector<Contact> contacts;
+  ContactList contacts;
   double time = 0.0;
   long step = 0;
 

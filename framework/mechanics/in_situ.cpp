@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <utility>
 
 #include "framework/plugin_api/rock_material.hpp"
@@ -69,16 +70,22 @@ void initialise_zones(Model& m, const StressField& field, InSituReport& rep) {
 
 }  // namespace
 
-double preload_contact(Contact& c, const JointModel& model, double sn, double tau, bool& at_strength) {
+double preload_contact(Contact& c, std::byte* state, const JointModel& model, double sn, double tau, bool& at_strength) {
   JointKinematics k;
   k.length = std::max(c.length, 1e-12);
   k.dt = 0.0;  // pseudo-static: rate-dependent effects see no time pass
+  // A trial from the contact's present state, which it leaves as it is.
   auto after = [&](double du_n, double du_s) {
-    std::pair<JointStateBlock, JointResponse> out{c.state, JointResponse{}};
+    std::pair<JointStateBlock, JointResponse> out{JointStateBlock{}, JointResponse{}};
+    std::memcpy(out.first.bytes.data(), state, model.state_size());
     k.du_n = du_n;
     k.du_s = du_s;
     model.update(out.first, k, out.second);
     return out;
+  };
+  auto keep = [&](const std::pair<JointStateBlock, JointResponse>& trial) {
+    std::memcpy(state, trial.first.bytes.data(), model.state_size());
+    return trial.second;
   };
   JointResponse r = after(0.0, 0.0).second;
   at_strength = false;
@@ -87,10 +94,10 @@ double preload_contact(Contact& c, const JointModel& model, double sn, double ta
     bool reached = true;
     const double dn = solve_increment(r.sigma_n, sn, model.initial_kn(),
                                       [&](double x) { return after(-x, 0.0).second.sigma_n; }, reached);
-    std::tie(c.state, r) = after(-dn, 0.0);
+    r = keep(after(-dn, 0.0));
     const double ds = solve_increment(r.tau, tau, model.initial_ks(),
                                       [&](double x) { return after(0.0, x).second.tau; }, reached);
-    std::tie(c.state, r) = after(0.0, ds);
+    r = keep(after(0.0, ds));
     at_strength = !reached;
     if (std::abs(r.sigma_n - sn) <= 1e-9 * std::max(1.0, sn) || at_strength) break;
   }
@@ -104,7 +111,8 @@ InSituReport initialise_in_situ(Model& m, const StressField& field, const Detect
   detect_contacts(m, detection);
   // Blocks that share an edge touch to round-off; those a visible gap apart are left open.
   const double touch = 1e-9 * std::max(1.0, detection.distance * 1e3);
-  for (Contact& c : m.contacts.items) {
+  for (std::size_t i = 0; i < m.contacts.items.size(); ++i) {
+    Contact& c = m.contacts.items[i];
     if (c.overlap < -touch) continue;
     const Vec2 n = c.normal, t(n.y(), -n.x());
     const Voigt3 s = field.at(m.gp[c.point].x);
@@ -116,7 +124,7 @@ InSituReport initialise_in_situ(Model& m, const StressField& field, const Detect
     c.pending_closure = 0.0;
     c.fresh = false;
     bool at_strength = false;
-    rep.worst_error = std::max(rep.worst_error, preload_contact(c, *m.contacts.models[c.joint], sn, tau, at_strength));
+    rep.worst_error = std::max(rep.worst_error, preload_contact(c, m.contacts.states.at(i), *m.contacts.models[c.joint], sn, tau, at_strength));
     if (at_strength) ++rep.at_strength;
     ++rep.contacts;
   }

@@ -19,6 +19,7 @@ namespace rockdem {
 
 struct Model;
 struct Contact;
+struct ContactList;
 
 // The parts of the state collect() gathers: the blocks' motion and gridpoints always; zones and
 // contacts when asked (a history sample that reads only displacements needs neither).
@@ -70,7 +71,7 @@ class Communication {
   // the contacts it owns (those whose point lies on one of its blocks). On the receiving side
   // the contact list becomes every contact of the model, sorted by key; `local_contacts` gets the
   // list it replaced (so that a process can go on stepping with it after writing output).
-  virtual void collect(Model&, int /*root*/, std::vector<Contact>* /*local_contacts*/ = nullptr,
+  virtual void collect(Model&, int /*root*/, ContactList* /*local_contacts*/ = nullptr,
                        unsigned /*parts*/ = kWholeState) {}
 };
 

@@ -8,10 +8,13 @@
 // Contacts are keyed by decomposition-free ids (block id of the point, its local gridpoint index,
 // block id of the other block), so the same contact has the same key on any rank count and keeps
 // its joint-law state while the point slides from one edge of the other block to the next.
+#include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <memory>
 #include <string>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include "framework/core/types.hpp"
@@ -65,7 +68,8 @@ struct Contact {
   double pretouch_gap = 0.0;     // >0: found within the detection distance but not yet touching;
                                  // the joint law starts when this gap has closed [m]
   double pending_closure = 0.0;  // overlap found at creation, fed to the law as closure [m]
-  JointStateBlock state;      // joint-law history (base law and effects)
+  // The joint-law history (base law and effects) is not here but in the list's ContactStates,
+  // sized by the joint models the contacts use (below).
   JointResponse response;     // last response (stresses, offsets, slip/open)
   bool fresh = true;          // created at the last detection, law state just initialised
 
@@ -82,6 +86,54 @@ struct Contact {
 };
 
 inline constexpr const char* kContactStateNames[3] = {"elastic", "slipping", "open"};
+
+// The joint-law states of a contact list, item i's at at(i): one stretch of `stride()` bytes per
+// contact, as many as the largest state among the store's joint models needs (base law and the
+// effects composed with it, joint_law.hpp), not the most any model may have (kJointStateBytes).
+// Kept apart from Contact so that a Coulomb-slip contact does not carry a Continuously-Yielding-
+// with-wear one's 256 bytes through every step and every detection pass (LAMMPS keeps per-contact
+// history apart from the neighbour list in the same way, sized by the pair style).
+class ContactStates {
+ public:
+  ContactStates() = default;
+  // n zeroed states of `stride` bytes (a multiple of kStateAlign).
+  ContactStates(std::size_t stride, std::size_t n) { reset(stride, n); }
+  void reset(std::size_t stride, std::size_t n) {
+    chunks_ = (stride + kStateAlign - 1) / kStateAlign;
+    data_.assign(chunks_ * n, Chunk{});
+  }
+  std::size_t stride() const { return chunks_ * kStateAlign; }
+  std::size_t size() const { return chunks_ == 0 ? 0 : data_.size() / chunks_; }
+  std::byte* at(std::size_t i) { return data_[i * chunks_].bytes; }
+  const std::byte* at(std::size_t i) const { return data_[i * chunks_].bytes; }
+  // Appends one state (stride() bytes from `s`, or zeros).
+  void push_back(const std::byte* s = nullptr) {
+    data_.resize(data_.size() + chunks_);
+    if (s) std::memcpy(at(size() - 1), s, stride());
+  }
+  void swap(ContactStates& o) noexcept {
+    std::swap(chunks_, o.chunks_);
+    data_.swap(o.data_);
+  }
+  bool operator==(const ContactStates&) const = default;
+
+  static constexpr std::size_t kStateAlign = 16;  // as JointStateBlock's
+
+ private:
+  struct alignas(kStateAlign) Chunk {
+    std::byte bytes[kStateAlign]{};
+    bool operator==(const Chunk& o) const { return std::memcmp(bytes, o.bytes, kStateAlign) == 0; }
+  };
+  std::size_t chunks_ = 0;
+  std::vector<Chunk> data_;
+};
+
+// A contact list with its states, as it moves between the store and what holds a copy (the last
+// good state, a collect's own list, a checkpoint being read).
+struct ContactList {
+  std::vector<Contact> items;
+  ContactStates states;
+};
 
 // What a block edge made by the rock-mass generator lies on: a joint set or named joint (by its
 // name; empty for a glued cut that is no joint: a region's or an opening's outline) and whether
@@ -104,6 +156,7 @@ struct JointAssignment {
 class ContactStore {
  public:
   std::vector<Contact> items;
+  ContactStates states;  // items[i]'s joint-law state at states.at(i)
   // Shared so that a stage can put in force other parameter values of the same law (the per-stage
   // rows of the report's Table 4-2) while the contacts keep their state.
   std::vector<std::shared_ptr<const JointModel>> models;
@@ -123,16 +176,25 @@ class ContactStore {
   // persists and initialising the state of new ones. Returns the number of new contacts.
   std::size_t merge(std::vector<Contact>&& found);
 
+  // Bytes of state per contact for these joint models: the largest of their states, rounded up
+  // to ContactStates::kStateAlign (at least one stretch of it).
+  std::size_t state_stride() const;
+
   const Contact* find(const ContactKey& k) const;
   // With the caller's own look-up hint (threads of one detection each keep theirs).
   const Contact* find(const ContactKey& k, std::size_t& hint) const;
 
   // Replace the contact list as it is, law state included (checkpoint restore), and rebuild the
-  // index; unlike merge() nothing is re-initialised.
-  void restore(std::vector<Contact>&& all);
+  // index; unlike merge() nothing is re-initialised. The states must be one per item.
+  void restore(ContactList&& all);
+  // The list and its states, moved out (the store is left empty).
+  ContactList take();
+  // A copy of the list and its states.
+  ContactList copy() const { return {items, states}; }
 
  private:
   ContactIndex index_;
+  ContactStates spare_states_;  // the states' storage of the list before the last merge, reused
 };
 
 }  // namespace rockdem

@@ -1,4 +1,6 @@
 #include <algorithm>
+#include <cstring>
+#include <stdexcept>
 #include <string>
 
 #include "framework/model/contact.hpp"
@@ -26,31 +28,57 @@ int ContactStore::model_for(int group_a, int group_b, int edge_label) const {
                    "between = [" + name(group_a) + ", " + name(group_b) + "] (or \"*\" for any group)");
 }
 
+std::size_t ContactStore::state_stride() const {
+  std::size_t most = 1;
+  for (const auto& jm : models) most = std::max(most, jm->state_size());
+  constexpr std::size_t a = ContactStates::kStateAlign;
+  return (most + a - 1) / a * a;
+}
+
 std::size_t ContactStore::merge(std::vector<Contact>&& found) {
   std::size_t created = 0;
-  for (auto& c : found) {
+  ContactStates& next = spare_states_;
+  next.reset(state_stride(), found.size());
+  // Within both lists' strides (a stage's models may differ from the last's, not their states).
+  const std::size_t kept_bytes = std::min(next.stride(), states.stride());
+  for (std::size_t i = 0; i < found.size(); ++i) {
+    Contact& c = found[i];
     const std::ptrdiff_t at = index_.find(items, c.key);
     if (at >= 0 && items[static_cast<std::size_t>(at)].joint == c.joint) {
       const Contact& old = items[static_cast<std::size_t>(at)];
-      c.state = old.state;
+      std::memcpy(next.at(i), states.at(static_cast<std::size_t>(at)), kept_bytes);
       c.response = old.response;
       c.fresh = false;
     } else {
-      models[static_cast<std::size_t>(c.joint)]->init(c.state);
+      models[static_cast<std::size_t>(c.joint)]->init(next.at(i));
       c.response = JointResponse{};
       c.fresh = true;
       ++created;
     }
   }
-  // Swapped, not moved: the caller gets the old list's storage back to fill on its next pass.
+  // Swapped, not moved: the caller gets the old list's storage back to fill on its next pass,
+  // and the old states' storage is the next merge's.
   items.swap(found);
+  states.swap(next);
   index_.rebuild(items);
   return created;
 }
 
-void ContactStore::restore(std::vector<Contact>&& all) {
-  items = std::move(all);
+void ContactStore::restore(ContactList&& all) {
+  if (all.states.size() != all.items.size())
+    throw std::logic_error("ContactStore::restore: " + std::to_string(all.items.size()) + " contacts with " +
+                           std::to_string(all.states.size()) + " states");
+  items = std::move(all.items);
+  states = std::move(all.states);
   index_.rebuild(items);
+}
+
+ContactList ContactStore::take() {
+  ContactList out{std::move(items), std::move(states)};
+  items.clear();
+  states = ContactStates{};
+  index_.rebuild(items);
+  return out;
 }
 
 const Contact* ContactStore::find(const ContactKey& k) const {

@@ -57,14 +57,17 @@ Renumbering remove_blocks(Model& m, const std::vector<int>& blocks) {
     kept.push_back(std::move(B));
   }
   // Contacts with a removed block on either side go; the others point at the new positions.
-  std::vector<Contact> contacts;
-  for (const Contact& c : m.contacts.items) {
+  ContactList contacts;
+  contacts.states.reset(m.contacts.states.stride(), 0);
+  for (std::size_t i = 0; i < m.contacts.items.size(); ++i) {
+    const Contact& c = m.contacts.items[i];
     const int point = r.gp[static_cast<std::size_t>(c.point)], other = r.block[static_cast<std::size_t>(c.other)];
     if (point < 0 || other < 0) continue;
     Contact n = c;
     n.point = point;
     n.other = other;
-    contacts.push_back(n);
+    contacts.items.push_back(n);
+    contacts.states.push_back(m.contacts.states.at(i));
   }
   m.gp = std::move(gp);
   m.zones = std::move(zones);

@@ -110,15 +110,6 @@ struct Codec<std::array<std::byte, N>> {
   static void store(const std::array<std::byte, N>& v, Element* out) { std::memcpy(out, v.data(), N); }
   static void load(std::array<std::byte, N>& v, const Element* in) { std::memcpy(v.data(), in, N); }
 };
-template <>
-struct Codec<JointStateBlock> {
-  using Bytes = Codec<decltype(JointStateBlock::bytes)>;
-  using Element = Bytes::Element;
-  static constexpr Scalar type = Bytes::type;
-  static constexpr std::size_t width = Bytes::width;
-  static void store(const JointStateBlock& v, Element* out) { Bytes::store(v.bytes, out); }
-  static void load(JointStateBlock& v, const Element* in) { Bytes::load(v.bytes, in); }
-};
 
 template <>
 struct Codec<ContactKey> {  // point block, point local index, other block, side
@@ -208,7 +199,9 @@ inline constexpr Field<Block> kBlockFields[] = {
 };
 
 // Contacts have no identity fields: they are restored as a whole and then checked for references
-// to gridpoints, blocks and joint models the model does not have.
+// to gridpoints, blocks and joint models the model does not have. Their joint-law states are
+// not a field of Contact but the store's ContactStates, as wide as its joint models need: the
+// checkpoint and the processes' exchange add them after these.
 inline constexpr Field<Contact> kContactFields[] = {
     field<Contact>("key", ROCKDEM_MEMBER(key)),
     field<Contact>("point", ROCKDEM_MEMBER(point)),
@@ -225,7 +218,6 @@ inline constexpr Field<Contact> kContactFields[] = {
     field<Contact>("pretouch_gap", ROCKDEM_MEMBER(pretouch_gap)),
     field<Contact>("pending_closure", ROCKDEM_MEMBER(pending_closure)),
     field<Contact>("fresh", ROCKDEM_MEMBER(fresh)),
-    field<Contact>("state", ROCKDEM_MEMBER(state)),
     field<Contact>("sigma_n", ROCKDEM_MEMBER(response.sigma_n)),
     field<Contact>("tau", ROCKDEM_MEMBER(response.tau)),
     field<Contact>("kn", ROCKDEM_MEMBER(response.kn)),

@@ -430,7 +430,7 @@ std::string MpiCommunication::first_message(const std::string& message) const {
   return out;
 }
 
-void MpiCommunication::collect(Model& m, int root, std::vector<Contact>* local_contacts, unsigned parts) {
+void MpiCommunication::collect(Model& m, int root, ContactList* local_contacts, unsigned parts) {
   const bool zones = parts & kZoneState, with_contacts = parts & kContactState;
   if (!m.part.decomposed()) return;
   const Stopwatch watch(spent_.collect);
@@ -449,9 +449,15 @@ void MpiCommunication::collect(Model& m, int root, std::vector<Contact>* local_c
   if (with_contacts)
     for (const Contact& c : m.contacts.items) owned_contacts += owned_contact(m, c);
   put<std::int64_t>(mine, owned_contacts);
+  // Each contact's fields, then its joint-law state (the same stride on every process: the same
+  // joint models).
+  const std::size_t stride = m.contacts.states.stride();
   if (with_contacts)
-    for (const Contact& c : m.contacts.items)
-      if (owned_contact(m, c)) pack(fields::kContactFields, c, false, mine);
+    for (std::size_t i = 0; i < m.contacts.items.size(); ++i)
+      if (owned_contact(m, m.contacts.items[i])) {
+        pack(fields::kContactFields, m.contacts.items[i], false, mine);
+        mine.insert(mine.end(), m.contacts.states.at(i), m.contacts.states.at(i) + stride);
+      }
   if (mine.size() > static_cast<std::size_t>(std::numeric_limits<int>::max()))
     throw std::runtime_error("collecting the model state: one process's part exceeds 2 GB");
   const int count = static_cast<int>(mine.size());
@@ -469,7 +475,8 @@ void MpiCommunication::collect(Model& m, int root, std::vector<Contact>* local_c
   else
     MPI_Gatherv(mine.data(), count, MPI_BYTE, all.data(), counts.data(), displs.data(), MPI_BYTE, root, MPI_COMM_WORLD);
   if (!receive) return;
-  std::vector<Contact> contacts;
+  ContactList gathered;
+  gathered.states.reset(stride, 0);
   for (int r = 0; r < size_; ++r) {
     const std::byte* in = all.data() + displs[static_cast<std::size_t>(r)];
     const auto blocks = take<std::int64_t>(in);
@@ -484,12 +491,25 @@ void MpiCommunication::collect(Model& m, int root, std::vector<Contact>* local_c
     for (std::int64_t k = 0; k < nc; ++k) {
       Contact c;
       in = unpack(fields::kContactFields, c, false, in);
-      contacts.push_back(std::move(c));
+      gathered.items.push_back(std::move(c));
+      gathered.states.push_back(in);
+      in += stride;
     }
   }
   if (!with_contacts) return;
-  std::sort(contacts.begin(), contacts.end(), [&](const Contact& a, const Contact& b) { return serial_order(m, a, b); });
-  if (local_contacts) *local_contacts = std::move(m.contacts.items);
+  // In the serial run's order, each state with its contact.
+  std::vector<std::size_t> order(gathered.items.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::sort(order.begin(), order.end(),
+            [&](std::size_t a, std::size_t b) { return serial_order(m, gathered.items[a], gathered.items[b]); });
+  ContactList contacts;
+  contacts.items.reserve(order.size());
+  contacts.states.reset(stride, 0);
+  for (std::size_t i : order) {
+    contacts.items.push_back(gathered.items[i]);
+    contacts.states.push_back(gathered.states.at(i));
+  }
+  if (local_contacts) *local_contacts = m.contacts.take();
   m.contacts.restore(std::move(contacts));
 }
 

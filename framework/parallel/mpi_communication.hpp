@@ -31,7 +31,7 @@ class MpiCommunication final : public Communication {
   double min(double v) const override;
   double max(double v) const override;
   std::string first_message(const std::string& message) const override;
-  void collect(Model& m, int root, std::vector<Contact>* local_contacts, unsigned parts) override;
+  void collect(Model& m, int root, ContactList* local_contacts, unsigned parts) override;
   std::string time_report() const override;
 
  private:

@@ -187,8 +187,10 @@ class EffectChain {
   ShearContext last_{};
 };
 
-// Largest per-contact state block (base law + effects), bytes. Fixed so that contact records are
-// trivially copyable and can be migrated or checkpointed as raw bytes.
+// The most state a joint model (base law + effects) may have, bytes. A contact carries only what
+// its store's models need (JointModel::state_size(), in the store's ContactStates, contact.hpp);
+// a JointStateBlock holds any model's, for one joint (the element driver) or a trial update.
+// States are trivially copyable, so they migrate and are checkpointed as raw bytes.
 inline constexpr std::size_t kJointStateBytes = 256;
 struct alignas(16) JointStateBlock {
   std::array<std::byte, kJointStateBytes> bytes{};
@@ -298,8 +300,16 @@ class JointModel {
   JointModel(const JointModel&) = delete;
   JointModel& operator=(const JointModel&) = delete;
 
-  void init(JointStateBlock& s) const;
-  void update(JointStateBlock& s, const JointKinematics& k, JointResponse& r) const;
+  // The state of one contact (or of the element driver's joint): state_size() bytes, aligned as
+  // JointStateBlock, which holds any model's.
+  std::size_t state_size() const { return state_size_; }
+  void init(std::byte* s) const;
+  void update(std::byte* s, const JointKinematics& k, JointResponse& r) const;
+  void init(JointStateBlock& s) const {
+    s = JointStateBlock{};
+    init(s.bytes.data());
+  }
+  void update(JointStateBlock& s, const JointKinematics& k, JointResponse& r) const { update(s.bytes.data(), k, r); }
   const JointLawBase& law() const { return *law_; }
   std::size_t effect_count() const { return effects_.size(); }
   std::string description() const;  // "continuously_yielding + a + b"
@@ -312,6 +322,7 @@ class JointModel {
   std::vector<std::unique_ptr<EffectBase>> owned_;
   std::vector<const EffectBase*> effects_;
   std::vector<std::size_t> offsets_;
+  std::size_t state_size_ = 0;          // the law's state, then each effect's at its offset
   const EffectBase* normal_ = nullptr;  // last enabled effect with a normal hook
 };
 

@@ -1,5 +1,7 @@
 #include "framework/plugin_api/joint_law.hpp"
 
+#include <cstring>
+
 namespace rockdem {
 
 namespace {
@@ -20,17 +22,18 @@ JointModel::JointModel(std::unique_ptr<JointLawBase> law, std::vector<std::uniqu
     throw InputError("joint model '" + description() + "' needs " + std::to_string(off) +
                      " bytes of state per contact; the limit is " + std::to_string(kJointStateBytes));
   }
+  state_size_ = off;
 }
 
-void JointModel::init(JointStateBlock& s) const {
-  s = JointStateBlock{};
-  law_->init(s.bytes.data());
-  for (std::size_t i = 0; i < effects_.size(); ++i) effects_[i]->init(s.bytes.data() + offsets_[i]);
+void JointModel::init(std::byte* s) const {
+  std::memset(s, 0, state_size_);
+  law_->init(s);
+  for (std::size_t i = 0; i < effects_.size(); ++i) effects_[i]->init(s + offsets_[i]);
 }
 
-void JointModel::update(JointStateBlock& s, const JointKinematics& k, JointResponse& r) const {
-  EffectChain chain(&effects_, &offsets_, s.bytes.data(), normal_);
-  law_->update(s.bytes.data(), k, r, chain);
+void JointModel::update(std::byte* s, const JointKinematics& k, JointResponse& r) const {
+  EffectChain chain(&effects_, &offsets_, s, normal_);
+  law_->update(s, k, r, chain);
   chain.after(r);
 }
 

@@ -31,7 +31,7 @@ void Recorder::sample() {
   Communication& comm = e_.communication();
   // A decomposed run first makes the model's state current on process 0 (quantities read from
   // the state are measured there), then goes on stepping with its own contacts.
-  std::vector<Contact> local;
+  ContactList local;
   const bool collected = m.part.decomposed() && needs_state_;
   if (collected) comm.collect(m, 0, &local, state_parts_);
   h_.set(stage_id_, stage_);

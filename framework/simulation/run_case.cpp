@@ -293,7 +293,7 @@ void with_whole_model(Run& r, F&& write) {
     write();
     return;
   }
-  std::vector<Contact> local;
+  ContactList local;
   r.comm.collect(r.c.model, 0, &local);
   std::string error;
   bool input_error = false;

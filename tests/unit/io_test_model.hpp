@@ -101,9 +101,8 @@ inline Model make_io_test_model() {
   for (auto& c : cs) {
     c.length = 0.5;
     c.joint = 0;
-    m.contacts.models[0]->init(c.state);
   }
-  m.contacts.merge(std::move(cs));
+  m.contacts.merge(std::move(cs));  // initialises each contact's joint-law state
   return m;
 }
 
@@ -147,12 +146,13 @@ inline void fill_io_test_state(Model& m, double seed) {
   }
   int ci = 0;
   for (auto& c : m.contacts.items) {
+    std::byte* state = m.contacts.states.at(static_cast<std::size_t>(ci));
+    for (std::size_t i = 0; i < m.contacts.states.stride(); ++i)
+      state[i] = static_cast<std::byte>((i * 13 + 7 * static_cast<std::size_t>(ci) + 1) & 0xff);
     c.s = 0.25 * next();
     c.overlap = 1e-4 * next();
     c.length = next();
     c.span = 1.5 * next();
-    for (std::size_t i = 0; i < c.state.bytes.size(); ++i)
-      c.state.bytes[i] = static_cast<std::byte>((i * 13 + 7 * static_cast<std::size_t>(ci) + 1) & 0xff);
     c.response.sigma_n = 1e6 * next();
     c.response.tau = 1e5 * next();
     c.response.kn = 1e10 * next();

@@ -4,13 +4,18 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <string>
+#include <vector>
 
 #include "framework/core/error.hpp"
 #include "framework/io/checkpoint.hpp"
+#include "framework/io/hdf5_util.hpp"
 #include "io_test_model.hpp"
 
 namespace fs = std::filesystem;
@@ -61,7 +66,8 @@ TEST(Checkpoint, StateStructsHaveTheFieldsTheCheckpointKnows) {
   // (write and read), fill_io_test_state and the comparisons below, then the count here.
   EXPECT_EQ((field_count<GridPoint>()), 11u);
   EXPECT_EQ((field_count<Zone>()), 7u);
-  EXPECT_EQ((field_count<Contact>()), 17u);
+  // The joint-law state is not one of Contact's fields (the store's ContactStates hold it).
+  EXPECT_EQ((field_count<Contact>()), 16u);
   // JointResponse has 11: `consistent` (whether the law's normal stress solve found its fixed
   // point) is not written. Each update sets it afresh and only the element driver reads it, within
   // the increment, so a restarted run's first update recomputes what it needs.
@@ -84,8 +90,10 @@ TEST(Checkpoint, RoundTripIsBitForBit) {
 
   Model b = test::make_io_test_model();
   test::fill_io_test_state(b, 7.0);  // different state everywhere, same topology
-  b.contacts.items.pop_back();       // and a different contact list
-  b.contacts.restore(std::vector<Contact>(b.contacts.items));
+  ContactList fewer = b.contacts.copy();  // and a different contact list
+  fewer.items.pop_back();
+  fewer.states.reset(fewer.states.stride(), fewer.items.size());
+  b.contacts.restore(std::move(fewer));
   const CheckpointScalars extra = read_checkpoint(b, path);
   EXPECT_EQ(extra.size(), 2u);
   EXPECT_EQ(extra.at("stage"), 2.0);
@@ -154,7 +162,8 @@ TEST(Checkpoint, RoundTripIsBitForBit) {
     EXPECT_EQ(p.joint, q.joint) << i;
     EXPECT_TRUE(same_bits(p.pretouch_gap, q.pretouch_gap)) << i;
     EXPECT_TRUE(same_bits(p.pending_closure, q.pending_closure)) << i;
-    EXPECT_EQ(std::memcmp(p.state.bytes.data(), q.state.bytes.data(), kJointStateBytes), 0) << i;
+    ASSERT_EQ(a.contacts.states.stride(), b.contacts.states.stride());
+    EXPECT_EQ(std::memcmp(a.contacts.states.at(i), b.contacts.states.at(i), a.contacts.states.stride()), 0) << i;
     const JointResponse &r = p.response, &s = q.response;
     EXPECT_TRUE(same_bits(r.sigma_n, s.sigma_n) && same_bits(r.tau, s.tau) && same_bits(r.kn, s.kn) &&
                 same_bits(r.ks, s.ks) && same_bits(r.u_s, s.u_s) && same_bits(r.u_n, s.u_n) &&
@@ -171,10 +180,8 @@ TEST(Checkpoint, RoundTripIsBitForBit) {
 
   // A later merge with the same keys keeps the restored joint state (not re-initialised).
   std::vector<Contact> again(b.contacts.items);
-  for (auto& x : again) x.state = JointStateBlock{};
   b.contacts.merge(std::move(again));
-  EXPECT_EQ(std::memcmp(b.contacts.items[1].state.bytes.data(), a.contacts.items[1].state.bytes.data(),
-                        kJointStateBytes), 0);
+  EXPECT_EQ(std::memcmp(b.contacts.states.at(1), a.contacts.states.at(1), a.contacts.states.stride()), 0);
   fs::remove_all(dir);
 }
 
@@ -245,5 +252,85 @@ TEST(Checkpoint, OverwriteKeepsTheLatestState) {
   read_checkpoint(b, path);
   EXPECT_EQ(b.time, 99.5);
   EXPECT_EQ(b.step, 9950);
+  fs::remove_all(dir);
+}
+
+namespace {
+// Replaces /contacts/state of the checkpoint at `path` by the same rows `width` bytes wide: the
+// file's own bytes, then zeros (or cut short).
+void rewrite_state_width(const std::string& path, std::size_t width) {
+  h5::Handle file(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose);
+  ASSERT_TRUE(file.valid());
+  h5::Handle grp(H5Gopen2(file, "contacts", H5P_DEFAULT), H5Gclose);
+  std::size_t rows = 0, cols = 0;
+  std::vector<std::uint8_t> old;
+  {
+    h5::Handle ds(H5Dopen2(grp, "state", H5P_DEFAULT), H5Dclose);
+    const auto shape = h5::dataset_shape(ds);
+    rows = static_cast<std::size_t>(shape.first);
+    cols = static_cast<std::size_t>(shape.second);
+    old.resize(rows * cols);
+    ASSERT_GE(H5Dread(ds, H5T_NATIVE_UINT8, H5S_ALL, H5S_ALL, H5P_DEFAULT, old.data()), 0);
+  }
+  ASSERT_GE(H5Ldelete(grp, "state", H5P_DEFAULT), 0);
+  std::vector<std::uint8_t> wide(rows * width, 0);
+  for (std::size_t i = 0; i < rows; ++i) std::memcpy(wide.data() + i * width, old.data() + i * cols, std::min(cols, width));
+  h5::write_dataset(grp, "state", H5T_NATIVE_UINT8, wide.data(), rows, width, path);
+}
+}  // namespace
+
+// A contact's joint-law state takes the bytes its joint models need, not the largest any model may
+// have: the io test model's Coulomb slip its 80 (Mohr-Coulomb's state), a Continuously-Yielding
+// model with directional wear more, and a store keeps the largest of its models'.
+TEST(Checkpoint, JointStatesAreAsWideAsTheModelsNeed) {
+  Model a = test::make_io_test_model();
+  const std::size_t coulomb = a.contacts.models[0]->state_size();
+  EXPECT_EQ(coulomb, sizeof(MohrCoulomb::State));
+  EXPECT_EQ(a.contacts.states.stride(), (coulomb + 15) / 16 * 16);
+  EXPECT_LT(a.contacts.states.stride(), kJointStateBytes);
+  const auto q = [](const char* text) { return RawValue{std::string(text), "test"}; };
+  std::unique_ptr<JointModel> worn = make_joint_model(
+      "continuously_yielding",
+      RawValues{{"kn", q("40 GPa/m")}, {"ks", q("15 GPa/m")}, {"initial_friction", q("50 deg")}, {"friction", q("32 deg")},
+                {"roughness", q("3 mm")}},
+      {EffectSpec{"directional_wear", {}, "test"}}, "test");
+  EXPECT_GT(worn->state_size(), coulomb);
+  a.contacts.models.push_back(std::shared_ptr<const JointModel>(worn.release()));
+  EXPECT_EQ(a.contacts.state_stride(), (a.contacts.models[1]->state_size() + 15) / 16 * 16);
+  // The next detection's merge lays the states out at the new stride, each kept.
+  test::fill_io_test_state(a, 1.0);
+  const ContactList before = a.contacts.copy();
+  a.contacts.merge(std::vector<Contact>(a.contacts.items));
+  ASSERT_EQ(a.contacts.states.stride(), a.contacts.state_stride());
+  for (std::size_t i = 0; i < a.contacts.items.size(); ++i) {
+    EXPECT_EQ(std::memcmp(a.contacts.states.at(i), before.states.at(i), before.states.stride()), 0) << i;
+    for (std::size_t b = before.states.stride(); b < a.contacts.states.stride(); ++b)
+      EXPECT_EQ(a.contacts.states.at(i)[b], std::byte{0}) << i;
+  }
+}
+
+// Checkpoints written while every contact carried 256 bytes of state read back the same; a file
+// whose states are narrower than the joint model's is refused, naming the contact.
+TEST(Checkpoint, StatesOfAnyWidthTheModelsFitAreRead) {
+  const fs::path dir = temp_dir("state_width");
+  const std::string path = (dir / "ck.h5").string();
+  Model a = test::make_io_test_model();
+  test::fill_io_test_state(a, 1.0);
+  // Zeros past the model's own bytes, as a contact's state has them.
+  const std::size_t own = a.contacts.models[0]->state_size();
+  for (std::size_t i = 0; i < a.contacts.items.size(); ++i)
+    std::memset(a.contacts.states.at(i) + own, 0, a.contacts.states.stride() - own);
+  write_checkpoint(a, path);
+  rewrite_state_width(path, kJointStateBytes);
+  Model b = test::make_io_test_model();
+  read_checkpoint(b, path);
+  ASSERT_EQ(b.contacts.states.size(), a.contacts.items.size());
+  EXPECT_TRUE(b.contacts.states == a.contacts.states);
+
+  rewrite_state_width(path, own - 8);
+  Model c = test::make_io_test_model();
+  const std::string e = error_of(c, path);
+  EXPECT_NE(e.find("contact 0's joint-law state has " + std::to_string(own - 8) + " bytes"), std::string::npos) << e;
+  EXPECT_NE(e.find("needs " + std::to_string(own)), std::string::npos) << e;
   fs::remove_all(dir);
 }

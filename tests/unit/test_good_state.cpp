@@ -42,7 +42,7 @@ TEST(GoodState, PutsBackWhatEvolvedAndReusesItsArrays) {
   ModelSnapshot snap;
   snap.take(m);
   const GridPoint* gp_storage = snap.gp.data();
-  const Contact* contact_storage = snap.contacts.data();
+  const Contact* contact_storage = snap.contacts.items.data();
   const Vec2 x = m.gp[5].x, xc = m.blocks[0].xc;
   const Voigt3 stress = m.zones[3].stress;
   const double sigma_n = m.contacts.items[0].response.sigma_n, time = m.time;
@@ -66,7 +66,7 @@ TEST(GoodState, PutsBackWhatEvolvedAndReusesItsArrays) {
   // Taken again at the same size: the same storage, no new arrays.
   snap.take(m);
   EXPECT_EQ(snap.gp.data(), gp_storage);
-  EXPECT_EQ(snap.contacts.data(), contact_storage);
+  EXPECT_EQ(snap.contacts.items.data(), contact_storage);
 }
 
 TEST(GoodState, IsNotAppliedToAModelWhoseArraysChanged) {

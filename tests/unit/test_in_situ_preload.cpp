@@ -52,9 +52,10 @@ TEST(InSituPreload, EveryLawCarriesTheTargetStressesWithoutMoving) {
     for (const auto& [sn, tau] : {std::pair{5e6, 1e6}, std::pair{20e6, -3e6}, std::pair{0.3e6, 0.0}}) {
       Contact c;
       c.length = 0.5;
-      model->init(c.state);
+      JointStateBlock state;
+      model->init(state);
       bool at_strength = false;
-      const double err = preload_contact(c, *model, sn, tau, at_strength);
+      const double err = preload_contact(c, state.bytes.data(), *model, sn, tau, at_strength);
       EXPECT_FALSE(at_strength);
       EXPECT_LT(err, 1e-9 * sn);
       EXPECT_NEAR(c.response.sigma_n, sn, 1e-9 * sn);
@@ -63,7 +64,7 @@ TEST(InSituPreload, EveryLawCarriesTheTargetStressesWithoutMoving) {
       JointKinematics k;
       k.length = c.length;
       JointResponse r;
-      model->update(c.state, k, r);
+      model->update(state, k, r);
       EXPECT_NEAR(r.sigma_n, sn, 1e-9 * sn);
       EXPECT_NEAR(r.tau, tau, 1e-9 * sn);
     }
@@ -76,9 +77,10 @@ TEST(InSituPreload, ShearBeyondTheStrengthStopsAtTheStrength) {
                                       {}, "test");
   Contact c;
   c.length = 1.0;
-  model->init(c.state);
+  JointStateBlock state;
+  model->init(state);
   bool at_strength = false;
-  preload_contact(c, *model, 1e6, 2e6, at_strength);
+  preload_contact(c, state.bytes.data(), *model, 1e6, 2e6, at_strength);
   EXPECT_TRUE(at_strength);
   EXPECT_NEAR(c.response.tau, 1e6 * std::tan(35.0 * 3.14159265358979323846 / 180.0), 1e-6 * 1e6);
 }

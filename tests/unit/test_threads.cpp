@@ -130,7 +130,8 @@ std::vector<unsigned char> state_bytes(const Model& m) {
     put(&b.theta, sizeof(double));
     put(&b.omega, sizeof(double));
   }
-  for (const Contact& c : m.contacts.items) {
+  for (std::size_t i = 0; i < m.contacts.items.size(); ++i) {
+    const Contact& c = m.contacts.items[i];
     put(&c.key, sizeof c.key);
     put(&c.length, sizeof(double));
     put(&c.overlap, sizeof(double));
@@ -139,7 +140,7 @@ std::vector<unsigned char> state_bytes(const Model& m) {
     put(&c.s, sizeof(double));
     put(&c.response.sigma_n, sizeof(double));
     put(&c.response.tau, sizeof(double));
-    put(&c.state, sizeof c.state);
+    put(m.contacts.states.at(i), m.contacts.states.stride());
   }
   return out;
 }
