@@ -68,6 +68,10 @@ void ContactStore::restore(ContactList&& all) {
   if (all.states.size() != all.items.size())
     throw std::logic_error("ContactStore::restore: " + std::to_string(all.items.size()) + " contacts with " +
                            std::to_string(all.states.size()) + " states");
+  // Narrower states than the joint models write would be overrun by the next update.
+  if (!all.items.empty() && all.states.stride() < state_stride())
+    throw std::logic_error("ContactStore::restore: states of " + std::to_string(all.states.stride()) +
+                           " bytes, the joint models need " + std::to_string(state_stride()));
   items = std::move(all.items);
   states = std::move(all.states);
   index_.rebuild(items);

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -307,6 +308,11 @@ TEST(Checkpoint, JointStatesAreAsWideAsTheModelsNeed) {
     for (std::size_t b = before.states.stride(); b < a.contacts.states.stride(); ++b)
       EXPECT_EQ(a.contacts.states.at(i)[b], std::byte{0}) << i;
   }
+  // A list whose states are narrower than the models write is refused as it is.
+  ContactList narrow = a.contacts.copy();
+  narrow.states.reset(ContactStates::kStateAlign, narrow.items.size());
+  EXPECT_THROW(a.contacts.restore(std::move(narrow)), std::logic_error);
+  EXPECT_EQ(a.contacts.states.stride(), a.contacts.state_stride());
 }
 
 // Checkpoints written while every contact carried 256 bytes of state read back the same; a file
@@ -321,15 +327,24 @@ TEST(Checkpoint, StatesOfAnyWidthTheModelsFitAreRead) {
   for (std::size_t i = 0; i < a.contacts.items.size(); ++i)
     std::memset(a.contacts.states.at(i) + own, 0, a.contacts.states.stride() - own);
   write_checkpoint(a, path);
-  rewrite_state_width(path, kJointStateBytes);
+  {  // written as wide as the models need, not 256 bytes
+    h5::Handle file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+    h5::Handle ds(H5Dopen2(file, "contacts/state", H5P_DEFAULT), H5Dclose);
+    ASSERT_TRUE(ds.valid());
+    EXPECT_EQ(h5::dataset_shape(ds).second, a.contacts.states.stride());
+  }
+  ASSERT_NO_FATAL_FAILURE(rewrite_state_width(path, kJointStateBytes));
   Model b = test::make_io_test_model();
   read_checkpoint(b, path);
   ASSERT_EQ(b.contacts.states.size(), a.contacts.items.size());
   EXPECT_TRUE(b.contacts.states == a.contacts.states);
 
-  rewrite_state_width(path, own - 8);
+  ASSERT_NO_FATAL_FAILURE(rewrite_state_width(path, own - 8));
   Model c = test::make_io_test_model();
+  const ContactList untouched = c.contacts.copy();
   const std::string e = error_of(c, path);
+  EXPECT_TRUE(c.contacts.states == untouched.states);  // refused before the model is touched
+  EXPECT_EQ(c.time, 0.0);
   EXPECT_NE(e.find("contact 0's joint-law state has " + std::to_string(own - 8) + " bytes"), std::string::npos) << e;
   EXPECT_NE(e.find("needs " + std::to_string(own)), std::string::npos) << e;
   fs::remove_all(dir);
