@@ -157,10 +157,9 @@ void write_contact_store(hid_t grp, const ContactStore& store, const std::string
   write_fields(grp, fields::kContactFields, store.items, f);
   // The joint-law states, one row of the store's stride per contact (its model's state first,
   // then zeros); files written before the states were sized by the models have 256 columns.
-  const std::size_t stride = store.states.stride();
-  std::vector<u8> state(store.items.size() * stride);
-  if (!state.empty()) std::memcpy(state.data(), store.states.at(0), state.size());
-  h5::write_dataset(grp, "state", h5::native_type<u8>(), state.data(), store.items.size(), stride, f);
+  // The states are contiguous, in contact order: written as they are.
+  const std::byte* rows = store.items.empty() ? nullptr : store.states.at(0);
+  h5::write_dataset(grp, "state", h5::native_type<u8>(), rows, store.items.size(), store.states.stride(), f);
 }
 
 }  // namespace

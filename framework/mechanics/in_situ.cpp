@@ -124,7 +124,8 @@ InSituReport initialise_in_situ(Model& m, const StressField& field, const Detect
     c.pending_closure = 0.0;
     c.fresh = false;
     bool at_strength = false;
-    rep.worst_error = std::max(rep.worst_error, preload_contact(c, m.contacts.states.at(i), *m.contacts.models[c.joint], sn, tau, at_strength));
+    const double error = preload_contact(c, m.contacts.states.at(i), *m.contacts.models[c.joint], sn, tau, at_strength);
+    rep.worst_error = std::max(rep.worst_error, error);
     if (at_strength) ++rep.at_strength;
     ++rep.contacts;
   }

@@ -23,9 +23,10 @@ struct InSituReport {
 // direction). This pre-loads the law's state only: the blocks do not move. Works for any law
 // whose normal stress grows with closure and shear stress with shear displacement, nonlinear ones
 // included (the increments are found by bracketing and bisection, not from a stiffness).
-// Drives one contact's joint-law state (as above; `state`, model.state_size() bytes) to the normal stress `sigma_n` (compression
-// positive) and shear stress `tau`; returns the remaining error [Pa]. `at_strength`: the shear
-// target is beyond the joint's strength, the state is left at the onset of slip.
+// Drives one contact's joint-law state (as above; `state`, model.state_size() bytes) to the
+// normal stress `sigma_n` (compression positive) and shear stress `tau`; returns the remaining
+// error [Pa]. `at_strength`: the shear target is beyond the joint's strength, the state is left
+// at the onset of slip.
 double preload_contact(Contact& c, std::byte* state, const JointModel& model, double sigma_n, double tau,
                        bool& at_strength);
 
