@@ -256,8 +256,23 @@ const CommandRegistrar reg{Command{
                      "are the same on any number; under mpirun give each process that many cores, e.g. --bind-to none)")
           ->check(CLI::Range(1, 256))
           ->capture_default_str();
+      auto imbalance = std::make_shared<double>(EngineSettings{}.imbalance_limit);
+      sub.add_option("--imbalance-limit", *imbalance,
+                     "under mpirun: share the blocks out again (METIS, moving as few as it can) when the largest process's work "
+                     "exceeds the mean by this factor; 0 never (blocks that moved among another process's blocks still go to it). "
+                     "The results are the same either way")
+          ->check(CLI::Validator(
+              [](std::string& v) -> std::string {
+                char* end = nullptr;
+                const double x = std::strtod(v.c_str(), &end);
+                if (end != v.c_str() && *end == '\0' && (x == 0.0 || (x >= 1.0 && x <= 100.0))) return {};
+                return "'" + v + "' is no load imbalance limit: give a factor from 1 to 100 (the largest process's work over the "
+                       "mean, e.g. 1.2), or 0 never to share the blocks out again";
+              },
+              "FACTOR"))
+          ->capture_default_str();
       return [file, out, use_default, quiet, no_plots, overwrite, restart, velocity, mass_dt, nstages, write_case,
-              write_blocks, joints, checkpoint_every, threads]() -> int {
+              write_blocks, joints, checkpoint_every, threads, imbalance]() -> int {
         // Under mpirun every process runs the case (its share of the blocks); process 0 writes.
         const std::unique_ptr<Communication> parallel = make_communication();
         Communication& comm = parallel ? *parallel : serial_communication();
@@ -322,6 +337,7 @@ const CommandRegistrar reg{Command{
         }
         if (!checkpoint_every->empty()) read_checkpoint_interval(*checkpoint_every, "--checkpoint-every", c.output);
         c.settings.threads = *threads;
+        c.settings.imbalance_limit = *imbalance;
         if (comm.root()) {
           // Threads beyond the cores this process may use take turns on them: worse than one.
           const int cores = usable_cores();

@@ -109,6 +109,16 @@ class Engine {
   // naming `file` when the checkpoint has none or they do not fit the model.
   void resume_stage(const std::map<std::string, std::vector<double>>& a, const std::string& file);
 
+  // In a domain-decomposed run, at a contact detection (just_refreshed()): asks the communication
+  // whether blocks should change owner (Communication::plan_owners: the load out of balance
+  // beyond `limit`, 0 never, or blocks that moved among another process's blocks) and, if so,
+  // hands them over: what only owners hold (the contact force on each block, the damping's
+  // averages, the energy balance's per-item state) and the whole model's state go to every process, the new owners take over, and the detection is made again
+  // (on the same state it finds the same contacts, masses and step, as a restart within a stage
+  // does), so that no result changes. Checks the state first; the state handed over becomes the
+  // last good one. A collective call; does nothing in a serial run.
+  OwnerChange rebalance(double limit);
+
   const ModelSnapshot& last_good() const { return last_good_; }
   ModelSnapshot snapshot() const;
   void restore(const ModelSnapshot& s);

@@ -32,6 +32,10 @@ struct EngineSettings {
   // Threads of this process for the zone, contact-law, contact-geometry and detection loops
   // (core/threads.hpp): the same results on any number. Not a case setting: `rockdem run --threads`.
   int threads = 1;
+  // A domain-decomposed run partitions its blocks again when the load imbalance (the largest
+  // process's work over the mean) exceeds this; 0: never (blocks that moved among another
+  // process's blocks still go to it). Not a case setting: `rockdem run --imbalance-limit`.
+  double imbalance_limit = 1.2;
 };
 
 }  // namespace rockdem

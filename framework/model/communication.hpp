@@ -9,8 +9,10 @@
 // positions and velocities every step. Contacts between blocks of two processes are computed on
 // both (LAMMPS's "newton off"), so no contact force needs to travel back: every owned gridpoint
 // sums its forces from the same contacts in the same order as a serial run, and a decomposed run
-// gives the serial run's results bit for bit. Blocks keep their owner for the whole run: a block
-// that moves far only changes which processes hold it as a ghost.
+// gives the serial run's results bit for bit. Blocks change owner only when plan_owners() says so
+// (a load grown out of balance, a block that has moved among another process's blocks), and the
+// engine then makes the whole state current on every process before the new owners take over
+// (Engine::rebalance), so that a change of owner changes no result either.
 #include <string>
 #include <utility>
 #include <vector>
@@ -34,6 +36,18 @@ struct DecompositionReport {
   double seconds = 0.0;              // wall time of the partitioning
 };
 
+// What plan_owners() decided, for the engine that carries it out and the run's report.
+struct OwnerChange {
+  std::vector<int> owner;        // the new owner of every block position; empty: nothing changes
+  bool repartitioned = false;    // a new METIS partition (else: strays only)
+  long moved = 0;                // blocks whose owner changes
+  std::vector<int> strays;       // positions of blocks that touch only other processes' blocks
+  double imbalance_before = 1.0; // largest process weight over the mean, before and after
+  double imbalance_after = 1.0;
+  bool collected = false;        // the whole model's state was made current on every process
+  double seconds = 0.0;          // wall time of the planning (Engine::rebalance: and of the hand-over)
+};
+
 class Communication {
  public:
   virtual ~Communication() = default;
@@ -43,6 +57,15 @@ class Communication {
 
   // Shares the blocks among the processes (partition.hpp); a serial run keeps them all.
   virtual DecompositionReport decompose(Model&, double /*margin*/) { return {}; }
+  // Whether blocks should change owner, the same answer on every process (collective): when the
+  // load imbalance (largest process weight over the mean, weights as decompose() gives them)
+  // exceeds `limit` (0: never) and has grown since the last partition, a new METIS partition whose
+  // parts are matched to the present owners so that as few blocks as possible move; else the
+  // blocks all of whose contacts are with another process's blocks (a block that fell among them)
+  // go to the process they touch most. A new partition needs the whole contact graph: it collects
+  // the model's state on every process first (`collected`), the contact list this process had
+  // going to `local` for the caller to put back when nothing changes.
+  virtual OwnerChange plan_owners(Model&, double /*margin*/, double /*limit*/, ContactList* /*local*/) { return {}; }
   // After motion, before contact detection: marks as ghosts the blocks of other processes whose
   // boxes, grown by `margin`, reach the boxes of this process's blocks, and sets up what
   // forward() sends and receives.

@@ -147,75 +147,249 @@ std::string MpiCommunication::time_report() const {
        << static_cast<long>(t[7]) << " boxes of other processes' blocks received each time), forward " << t[2] << " s (" << t[5] / 1024.0 << " KiB sent a step), reductions " << t[3] << " s, collect "
        << t[4] << " s";
   }
+  os << "\n  ownership checked " << owner_checks_ << " times (" << spent_.owners << " s on process 0, its collects included): "
+     << owner_changes_ << " changes, " << blocks_moved_ << " blocks moved; load imbalance at the last check " << last_imbalance_;
   return os.str();
 }
 
-DecompositionReport MpiCommunication::decompose(Model& m, double margin) {
-  const auto t0 = std::chrono::steady_clock::now();
+namespace {
+
+// The block-contact graph decompose() and plan_owners() partition: blocks, and the pairs whose
+// boxes, grown by the margin, overlap; weights from the work each carries (every contact of the
+// model's list counts, so the list must be the whole model's).
+struct BlockGraph {
+  std::vector<std::set<int>> adj;
+  std::map<std::pair<int, int>, idx_t> contacts;  // per block pair, the contacts it has now
+  std::vector<idx_t> vwgt;
+};
+
+BlockGraph block_graph(const Model& m, double margin) {
   const int nb = static_cast<int>(m.blocks.size());
-  DecompositionReport rep;
-  rep.processes = size_;
-  std::vector<int> owner(static_cast<std::size_t>(nb), 0);
-  // The graph: blocks, and the pairs within contact reach; weights from the work each carries.
+  BlockGraph g;
   std::vector<BlockBox> boxes;
   boxes.reserve(static_cast<std::size_t>(nb));
   for (int b = 0; b < nb; ++b) boxes.push_back(block_box(m, b, margin));
-  std::vector<std::set<int>> adj(static_cast<std::size_t>(nb));
+  g.adj.resize(static_cast<std::size_t>(nb));
   overlapping_pairs(boxes, [&](int i, int j) {
-    adj[static_cast<std::size_t>(i)].insert(j);
-    adj[static_cast<std::size_t>(j)].insert(i);
+    g.adj[static_cast<std::size_t>(i)].insert(j);
+    g.adj[static_cast<std::size_t>(j)].insert(i);
   });
-  std::map<std::pair<int, int>, idx_t> contacts;  // per block pair, the contacts it has now
-  std::vector<idx_t> vwgt(static_cast<std::size_t>(nb));
+  g.vwgt.resize(static_cast<std::size_t>(nb));
   for (int b = 0; b < nb; ++b) {
     const Block& B = m.blocks[static_cast<std::size_t>(b)];
-    vwgt[static_cast<std::size_t>(b)] = 1 + B.n_zone + B.n_gp;
+    g.vwgt[static_cast<std::size_t>(b)] = 1 + B.n_zone + B.n_gp;
   }
   // A contact costs about three times a zone or a gridpoint per step (geometry, joint law,
   // detection; measured on scripts/bench/parallel/rock_mass_10k.toml, docs/parallel.md).
   for (const Contact& c : m.contacts.items) {
     const int a = m.gp[static_cast<std::size_t>(c.point)].block, o = c.other;
-    ++contacts[{std::min(a, o), std::max(a, o)}];
-    vwgt[static_cast<std::size_t>(a)] += 3;
+    ++g.contacts[{std::min(a, o), std::max(a, o)}];
+    g.vwgt[static_cast<std::size_t>(a)] += 3;
   }
-  if (nb <= size_) {
+  return g;
+}
+
+// METIS's k-way partition of the graph into `parts`, computed on process 0 and sent to all.
+std::vector<int> partition_graph(const BlockGraph& g, int parts, int rank) {
+  const int nb = static_cast<int>(g.vwgt.size());
+  std::vector<int> owner(static_cast<std::size_t>(nb), 0);
+  if (nb <= parts) {
     // No more blocks than processes: one each, and the processes left over wait.
     for (int b = 0; b < nb; ++b) owner[static_cast<std::size_t>(b)] = b;
-  } else if (rank_ == 0) {
+    return owner;
+  }
+  int status = METIS_OK;
+  if (rank == 0) {
     std::vector<idx_t> xadj{0}, adjncy, adjwgt;
     for (int b = 0; b < nb; ++b) {
-      for (int o : adj[static_cast<std::size_t>(b)]) {
+      for (int o : g.adj[static_cast<std::size_t>(b)]) {
         adjncy.push_back(o);
-        const auto it = contacts.find({std::min(b, o), std::max(b, o)});
+        const auto it = g.contacts.find({std::min(b, o), std::max(b, o)});
         // A pair without contacts yet still costs its narrow-phase checks.
-        adjwgt.push_back(1 + (it == contacts.end() ? 0 : it->second));
+        adjwgt.push_back(1 + (it == g.contacts.end() ? 0 : it->second));
       }
       xadj.push_back(static_cast<idx_t>(adjncy.size()));
     }
-    idx_t n = nb, ncon = 1, parts = size_, cut = 0;
+    idx_t n = nb, ncon = 1, np = parts, cut = 0;
     std::vector<idx_t> part(static_cast<std::size_t>(nb), 0);
     idx_t options[METIS_NOPTIONS];
     METIS_SetDefaultOptions(options);
     options[METIS_OPTION_SEED] = 1;  // the same partition every run
-    const int status = METIS_PartGraphKway(&n, &ncon, xadj.data(), adjncy.data(), vwgt.data(), nullptr, adjwgt.data(), &parts,
-                                           nullptr, nullptr, options, &cut, part.data());
-    if (status != METIS_OK) throw std::runtime_error("METIS could not partition the block graph (status " + std::to_string(status) + ")");
+    std::vector<idx_t> vwgt = g.vwgt;
+    status = METIS_PartGraphKway(&n, &ncon, xadj.data(), adjncy.data(), vwgt.data(), nullptr, adjwgt.data(), &np, nullptr,
+                                 nullptr, options, &cut, part.data());
     for (int b = 0; b < nb; ++b) owner[static_cast<std::size_t>(b)] = static_cast<int>(part[static_cast<std::size_t>(b)]);
   }
+  MPI_Bcast(&status, 1, MPI_INT, 0, MPI_COMM_WORLD);
+  if (status != METIS_OK) throw std::runtime_error("METIS could not partition the block graph (status " + std::to_string(status) + ")");
   MPI_Bcast(owner.data(), nb, MPI_INT, 0, MPI_COMM_WORLD);
-  assign_owners(m, owner, rank_);
-  rep.blocks.assign(static_cast<std::size_t>(size_), 0);
-  rep.weight.assign(static_cast<std::size_t>(size_), 0);
-  for (int b = 0; b < nb; ++b) {
-    ++rep.blocks[static_cast<std::size_t>(owner[static_cast<std::size_t>(b)])];
-    rep.weight[static_cast<std::size_t>(owner[static_cast<std::size_t>(b)])] += vwgt[static_cast<std::size_t>(b)];
-    for (int o : adj[static_cast<std::size_t>(b)])
-      if (o > b && owner[static_cast<std::size_t>(o)] != owner[static_cast<std::size_t>(b)]) ++rep.cut_pairs;
+  return owner;
+}
+
+// Largest process weight over the mean; `weight` gets each process's.
+double imbalance_of(const std::vector<int>& owner, const std::vector<idx_t>& vwgt, int parts, std::vector<long>* weight = nullptr) {
+  std::vector<long> w(static_cast<std::size_t>(parts), 0);
+  for (std::size_t b = 0; b < owner.size(); ++b) w[static_cast<std::size_t>(owner[b])] += vwgt[b];
+  const double total = static_cast<double>(std::accumulate(w.begin(), w.end(), 0L));
+  const double worst = static_cast<double>(*std::max_element(w.begin(), w.end()));
+  if (weight) *weight = std::move(w);
+  return total > 0.0 ? worst * parts / total : 1.0;
+}
+
+// Gives the parts of a fresh partition the labels (processes) that keep the most block weight
+// where it is: the pair of fresh part and present owner sharing the most weight first, then the
+// next among those left (the processor reassignment of scratch-remap repartitioning, Oliker &
+// Biswas 1998). A new partition then moves only the blocks it has to.
+std::vector<int> matched_to_owners(const std::vector<int>& fresh, const std::vector<int>& owner, const std::vector<idx_t>& vwgt,
+                                   int parts) {
+  const auto P = static_cast<std::size_t>(parts);
+  std::vector<long> shared(P * P, 0);  // [fresh part][owner]
+  for (std::size_t b = 0; b < fresh.size(); ++b)
+    shared[static_cast<std::size_t>(fresh[b]) * P + static_cast<std::size_t>(owner[b])] += vwgt[b];
+  std::vector<std::size_t> order(P * P);
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return shared[a] > shared[b]; });
+  std::vector<int> label(P, -1);
+  std::vector<char> taken(P, 0);
+  for (std::size_t k : order) {
+    const std::size_t f = k / P, o = k % P;
+    if (label[f] >= 0 || taken[o]) continue;
+    label[f] = static_cast<int>(o);
+    taken[o] = 1;
   }
-  const double total = static_cast<double>(std::accumulate(rep.weight.begin(), rep.weight.end(), 0L));
-  rep.imbalance = total > 0.0 ? static_cast<double>(*std::max_element(rep.weight.begin(), rep.weight.end())) * size_ / total : 1.0;
+  std::vector<int> out(fresh.size());
+  for (std::size_t b = 0; b < fresh.size(); ++b) out[b] = label[static_cast<std::size_t>(fresh[b])];
+  return out;
+}
+
+}  // namespace
+
+DecompositionReport MpiCommunication::decompose(Model& m, double margin) {
+  const auto t0 = std::chrono::steady_clock::now();
+  DecompositionReport rep;
+  rep.processes = size_;
+  const BlockGraph g = block_graph(m, margin);
+  const std::vector<int> owner = partition_graph(g, size_, rank_);
+  assign_owners(m, owner, rank_);
+  rep.imbalance = imbalance_of(owner, g.vwgt, size_, &rep.weight);
+  rep.blocks.assign(static_cast<std::size_t>(size_), 0);
+  for (std::size_t b = 0; b < owner.size(); ++b) {
+    ++rep.blocks[static_cast<std::size_t>(owner[b])];
+    for (int o : g.adj[b])
+      if (o > static_cast<int>(b) && owner[static_cast<std::size_t>(o)] != owner[b]) ++rep.cut_pairs;
+  }
+  settled_imbalance_ = rep.imbalance;
   rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return rep;
+}
+
+OwnerChange MpiCommunication::plan_owners(Model& m, double margin, double limit, ContactList* local) {
+  OwnerChange ch;
+  const Partition& p = m.part;
+  if (!p.decomposed()) return ch;
+  const double t0 = MPI_Wtime();
+  const auto nb = m.blocks.size();
+  // This process's weight (decompose()'s: each contact counts on the process owning its point)
+  // and, per block it owns, how many of its contacts are with its own process's blocks and with
+  // which others'. A process holds every contact of the blocks it owns, both ways round.
+  long weight = 0;
+  for (int b : p.owned_blocks) {
+    const Block& B = m.blocks[static_cast<std::size_t>(b)];
+    weight += 1 + B.n_zone + B.n_gp;
+  }
+  std::vector<int> at_home(nb, 0);
+  std::vector<std::pair<int, int>> abroad;  // (owned block, block of another process it touches), once per contact
+  for (const Contact& c : m.contacts.items) {
+    const int a = m.gp[static_cast<std::size_t>(c.point)].block, o = c.other;
+    for (auto [own, other] : {std::pair{a, o}, std::pair{o, a}}) {
+      if (!p.owns(own)) continue;
+      if (own == a) weight += 3;
+      if (p.owner[static_cast<std::size_t>(other)] == rank_) ++at_home[static_cast<std::size_t>(own)];
+      else abroad.emplace_back(own, other);
+    }
+  }
+  // A stray: a block that touches other processes' blocks and none of its owner's, whose owner
+  // has other blocks (a process's only block stays: the processes beyond the blocks' count wait).
+  // Sent as [block, n, the n blocks it touches (one per contact)]: where it goes is decided below,
+  // with every process's strays known.
+  std::sort(abroad.begin(), abroad.end());
+  std::vector<int> mine;
+  if (p.owned_blocks.size() > 1)
+    for (std::size_t i = 0; i < abroad.size();) {
+      std::size_t j = i;
+      while (j < abroad.size() && abroad[j].first == abroad[i].first) ++j;
+      if (at_home[static_cast<std::size_t>(abroad[i].first)] == 0) {
+        mine.insert(mine.end(), {abroad[i].first, static_cast<int>(j - i)});
+        for (std::size_t k = i; k < j; ++k) mine.push_back(abroad[k].second);
+      }
+      i = j;
+    }
+  // Every process's weight and strays.
+  const double local_n[2] = {static_cast<double>(weight), static_cast<double>(mine.size())};
+  std::vector<double> all;
+  gather_all(local_n, 2, all);
+  double total = 0.0, worst = 0.0;
+  std::vector<int> counts(static_cast<std::size_t>(size_)), displs(static_cast<std::size_t>(size_), 0);
+  for (int r = 0; r < size_; ++r) {
+    total += all[2 * static_cast<std::size_t>(r)];
+    worst = std::max(worst, all[2 * static_cast<std::size_t>(r)]);
+    counts[static_cast<std::size_t>(r)] = static_cast<int>(all[2 * static_cast<std::size_t>(r) + 1]);
+    if (r > 0) displs[static_cast<std::size_t>(r)] = displs[static_cast<std::size_t>(r) - 1] + counts[static_cast<std::size_t>(r) - 1];
+  }
+  ch.imbalance_before = ch.imbalance_after = total > 0.0 ? worst * size_ / total : 1.0;
+  ++owner_checks_;
+  last_imbalance_ = ch.imbalance_before;
+  std::vector<int> owner = p.owner;
+  // Repartition when the balance has become worse than the limit and than what the last
+  // partition reached by more than 0.02 (a model that cannot be balanced better, such as one
+  // whose largest block outweighs a process's share, is not partitioned again at every check).
+  if (limit > 0.0 && ch.imbalance_before > limit && ch.imbalance_before > settled_imbalance_ + 0.02 &&
+      nb > static_cast<std::size_t>(size_)) {
+    collect(m, -1, local, kWholeState);
+    ch.collected = true;
+    const BlockGraph g = block_graph(m, margin);
+    const std::vector<int> fresh = matched_to_owners(partition_graph(g, size_, rank_), p.owner, g.vwgt, size_);
+    const double before = imbalance_of(p.owner, g.vwgt, size_), after = imbalance_of(fresh, g.vwgt, size_);
+    settled_imbalance_ = std::min(before, after);
+    if (after < before) {
+      owner = fresh;
+      ch.repartitioned = true;
+      ch.imbalance_before = before;
+      ch.imbalance_after = last_imbalance_ = after;
+    }
+  } else {
+    std::vector<int> strays(static_cast<std::size_t>(displs.back() + counts.back()));
+    MPI_Allgatherv(mine.data(), static_cast<int>(mine.size()), MPI_INT, strays.data(), counts.data(), displs.data(), MPI_INT,
+                   MPI_COMM_WORLD);
+    // In process order, which is ascending block order within each: a stray goes to the process
+    // owning most of the blocks it touches, as they are owned by then, unless one of them is by
+    // then its own process's (two strays touching each other across two processes would otherwise
+    // trade places at every check).
+    for (std::size_t k = 0; k + 1 < strays.size(); k += 2 + static_cast<std::size_t>(strays[k + 1])) {
+      const int b = strays[k];
+      std::map<int, long> touches;  // process -> contacts
+      for (int i = 0; i < strays[k + 1]; ++i) ++touches[owner[static_cast<std::size_t>(strays[k + 2 + static_cast<std::size_t>(i)])]];
+      if (touches.count(owner[static_cast<std::size_t>(b)])) continue;
+      int to = -1;
+      long most = 0;
+      for (const auto& [r, n] : touches)
+        if (n > most) {
+          most = n;
+          to = r;
+        }
+      owner[static_cast<std::size_t>(b)] = to;
+      ch.strays.push_back(b);
+    }
+  }
+  for (std::size_t b = 0; b < nb; ++b) ch.moved += owner[b] != p.owner[b];
+  if (ch.moved > 0) {
+    ch.owner = std::move(owner);
+    ++owner_changes_;
+    blocks_moved_ += ch.moved;
+  }
+  ch.seconds = MPI_Wtime() - t0;
+  spent_.owners += ch.seconds;
+  return ch;
 }
 
 void MpiCommunication::borders(Model& m, double margin) {

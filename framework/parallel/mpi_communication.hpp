@@ -23,6 +23,7 @@ class MpiCommunication final : public Communication {
   // blocks their corners) plus its candidate contacts, a pair its candidate contacts. Computed on
   // process 0 and sent to all; the same on every process count and every run.
   DecompositionReport decompose(Model& m, double margin) override;
+  OwnerChange plan_owners(Model& m, double margin, double limit, ContactList* local) override;
 
   void borders(Model& m, double margin) override;
   void forward(Model& m) override;
@@ -38,6 +39,7 @@ class MpiCommunication final : public Communication {
   // Wall seconds spent in each verb, waiting for the other processes included.
   struct Seconds {
     double borders = 0.0, forward = 0.0, reduce = 0.0, collect = 0.0;
+    double owners = 0.0;  // plan_owners(), its reductions and collect included
   };
   double forward_bytes_ = 0.0;  // sent by forward() since the start
   long forwards_ = 0;           // forward() calls
@@ -58,6 +60,10 @@ class MpiCommunication final : public Communication {
   double anchor_margin_ = 0.0;
   long borders_skipped_ = 0, borders_done_ = 0;
   double boxes_received_ = 0.0;  // other processes' block boxes received by borders(), in all
+  // The imbalance the last partition reached: plan_owners() partitions again only beyond it.
+  double settled_imbalance_ = 1.0;
+  double last_imbalance_ = 1.0;  // at the last check (after its change, if any), for the report
+  long owner_checks_ = 0, owner_changes_ = 0, blocks_moved_ = 0;
 };
 
 // The communication of this process: an MpiCommunication when started by mpirun on more than one

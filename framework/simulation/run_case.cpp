@@ -169,6 +169,7 @@ std::size_t read_restart(Case& c, const std::string& restart, std::optional<Stag
 class Progress {
  public:
   Progress(const Case& c, bool quiet) : c_(c), quiet_(quiet), terminal_(isatty(fileno(stdout)) != 0) {}
+  bool quiet() const { return quiet_; }
 
   // Ends an updating step line, so that what follows starts on a line of its own.
   void end_line() {
@@ -280,6 +281,7 @@ struct Run {
   long last_checkpoint_step = 0;
   Clock::time_point last_checkpoint_wall = Clock::now();
   std::vector<fs::path> checkpoints;  // written by this run, oldest first
+  bool owners_due = false;  // a check of the blocks' owners waits for the next contact detection
   bool root() const { return comm.root(); }
 };
 
@@ -458,6 +460,33 @@ void write_stage_checkpoint(Run& r, std::size_t index) {
   r.last_checkpoint_wall = Clock::now();
 }
 
+// Steps of a stage between checks of the blocks' owners in a decomposed run (Engine::rebalance):
+// a check costs a pass over the contacts and two small exchanges.
+constexpr long kOwnerCheckSteps = 100;
+
+// At a contact detection: the blocks change owner if the communication says so; said on screen.
+void check_owners(Run& r) {
+  r.owners_due = false;
+  const OwnerChange ch = r.engine.rebalance(r.c.settings.imbalance_limit);
+  if (ch.owner.empty() || !r.root() || r.progress.quiet()) return;
+  r.progress.end_line();
+  std::ostringstream os;
+  os.precision(4);
+  os << "step " << r.c.model.step << ": ";
+  if (ch.repartitioned) {
+    os << "blocks shared out again (METIS, load imbalance " << ch.imbalance_before << " -> " << ch.imbalance_after << "): " << ch.moved
+       << " blocks moved";
+  } else {
+    os << ch.moved << (ch.moved == 1 ? " block" : " blocks") << " moved to the process whose blocks " << (ch.moved == 1 ? "it touches" : "they touch")
+       << " (";
+    for (std::size_t k = 0; k < ch.strays.size() && k < 5; ++k)
+      os << (k ? ", " : "") << r.c.model.blocks[static_cast<std::size_t>(ch.strays[k])].name;
+    os << (ch.strays.size() > 5 ? ", ..." : "") << ")";
+  }
+  os << " in " << ch.seconds << " s";
+  std::cout << os.str() << "\n";
+}
+
 // `resume`: the stage is taken up from a checkpoint written within it (`restart`): its
 // excavation was made before, its relax, clock and the conditions' state come from the file.
 void run_stage(Run& r, const StageJointModels& joints, std::size_t index, const StageResume* resume = nullptr,
@@ -498,6 +527,9 @@ void run_stage(Run& r, const StageJointModels& joints, std::size_t index, const 
     r.rec.sample();
   }
   r.progress.stepping_started();
+  // An excavation takes the removed blocks' work from the processes that held them: the owners
+  // are checked at the stage's first detection, and then every kOwnerCheckSteps steps.
+  r.owners_due = r.c.model.part.decomposed();
   const long chunk = 10;
   auto last_flush = Clock::now();
   long n = resume ? resume->chunk_start : 0;  // steps of the stage before the chunk under way
@@ -508,17 +540,23 @@ void run_stage(Run& r, const StageJointModels& joints, std::size_t index, const 
     long left = chunk - into;
     // A checkpoint or a signal waits for a contact detection (the next is at most [time]
     // refresh_interval steps away), so that a run restarted from it repeats this one exactly.
-    if ((r.checkpoint_due || r.signal) && r.engine.just_refreshed() && !resumed) write_pending(r, index, n, chunk - left, vtk_every);
+    // So does a check of the blocks' owners (a change of owner needs a detection made on the new
+    // owners; made again where the run has just made one, it changes nothing).
+    auto at_detection = [&] {
+      if (r.owners_due) check_owners(r);
+      if (r.checkpoint_due || r.signal) write_pending(r, index, n, chunk - left, vtk_every);
+    };
+    if ((r.checkpoint_due || r.signal || r.owners_due) && r.engine.just_refreshed() && !resumed) at_detection();
     // Single steps without the state check a whole chunk ends with, which the last call makes
     // (run_steps(0) only checks): the checks fall where a run without checkpoints has them.
-    while ((r.checkpoint_due || r.signal) && left > 0) {
+    while ((r.checkpoint_due || r.signal || r.owners_due) && left > 0) {
       r.engine.run_steps(1, false);
       --left;
       // A detection is at most [time] refresh_interval steps away; a signal does not wait for more
       // than 1,000 (a very long interval): then it makes one, and the restart repeats this run
       // from there, not the run without the signal.
       if (r.signal && ++r.signal_wait >= 1000 && !r.engine.just_refreshed()) r.engine.refresh_contacts();
-      if (r.engine.just_refreshed()) write_pending(r, index, n, chunk - left, vtk_every);
+      if (r.engine.just_refreshed()) at_detection();
     }
     r.engine.run_steps(left);
     into = 0;
@@ -533,6 +571,7 @@ void run_stage(Run& r, const StageJointModels& joints, std::size_t index, const 
       last_flush = Clock::now();
     }
     if (!r.checkpoint_due) r.checkpoint_due = checkpoint_due(r);
+    if (r.c.model.part.decomposed() && n % kOwnerCheckSteps < chunk) r.owners_due = true;
     // Every process stops at the same step (a signal may reach them a little apart).
     const int sig = r.c.model.part.decomposed() ? static_cast<int>(r.comm.max(interrupt_signal().load())) : interrupt_signal().load();
     if (sig) r.signal = sig;

@@ -8,7 +8,8 @@
 # jointed rock, the direct-shear specimen, two blocks (more processes than blocks) and an
 # earthquake through a compliant base with free-field sides (held reactions, energy balance). Also: a restart from a checkpoint of a 2-process run on 3 processes
 # (at a stage end, and within the free-field earthquake),
-# bad input under mpirun, and the case of more processes than blocks.
+# blocks changing owner within a run (shared out again, moved to the process they touch), bad
+# input under mpirun, and the case of more processes than blocks.
 # Usage: bash parallel_equivalence.sh <rockdem-binary> <source-dir>
 set -u
 bin=$1
@@ -26,7 +27,9 @@ import sys, h5py, numpy as np
 a, b = sys.argv[1:3]
 summed = {"history/ratio", "history/kinetic", "history/unbalanced_ratio"}
 # the same in the checkpoint (its histories so far, and the engine's last ratios and energy terms)
-summed |= {"arrays/" + k.replace("/", ".") for k in summed} | {"arrays/engine.step_values", "arrays/energy.terms"}
+summed |= {"arrays/" + k.replace("/", ".") for k in summed} | {"arrays/engine.step_values", "arrays/energy.terms", "arrays/energy.scale"}
+# and the energy balance's histories (its terms are sums over the processes too)
+summed_prefixes = ("history/energy", "arrays/history.energy")
 worst, n, bad = 0.0, 0, []
 for name in ("history.h5", "final_state.h5"):
     A, B = h5py.File(f"{a}/{name}", "r"), h5py.File(f"{b}/{name}", "r")
@@ -39,7 +42,7 @@ for name in ("history.h5", "final_state.h5"):
         n += 1
         if x.shape != y.shape:
             bad.append(f"{name}:{k} shape {x.shape} vs {y.shape}"); continue
-        if k in summed and x.dtype.kind == "f":
+        if (k in summed or k.startswith(summed_prefixes)) and x.dtype.kind == "f":
             scale = np.nanmax(np.abs(x)) if x.size else 0.0
             rel = float(np.nanmax(np.abs(x - y)) / scale) if scale > 0 else 0.0
             worst = max(worst, rel)
@@ -123,6 +126,56 @@ if timeout 600 mpirun -np 2 "$bin" run "$ff" --out "$tmp/ffck" --quiet --no-plot
 else
   echo "FAIL free field with checkpoints on 2 processes: exit $?"; tail -5 "$tmp/ffck.log"; fail=1
 fi
+
+# Blocks changing owner within a run (Engine::rebalance; the runs above may change some too): a
+# variant of the rock mass with a large opening on one side and weaker joints, whose excavation
+# and loosening leave the processes out of balance (--imbalance-limit 1.02: the blocks are shared
+# out again with METIS at the excavation and three times as blocks loosen, deformable blocks with
+# their zones, contacts and energy balance; leaving the balance's state behind fails this),
+# and the collapse, whose falling blocks land among another process's blocks (they move to it).
+# Each gives the serial run's results; with --imbalance-limit 0 nothing is shared out again.
+sed -e 's/centre = \["0 m", "0 m"\]/centre = ["2.8 m", "0.5 m"]/' -e 's/radius = "0.8 m"/radius = "2.6 m"/' \
+    -e 's/^steps = 3000/steps = 10000/' -e 's/friction = "15 deg"/friction = "5 deg"/' \
+    "$src/tests/cli/parallel/rock_mass.toml" > "$tmp/loosening.toml"
+printf '\n[[histories]]\nname = "energy_strain"\nquantity = "energy"\ncomponent = "strain"\n\n[[histories]]\nname = "energy_error"\nquantity = "energy_balance_error"\n' >> "$tmp/loosening.toml"
+grep -q 'radius = "2.6 m"' "$tmp/loosening.toml" && grep -q '^steps = 10000' "$tmp/loosening.toml" || { echo "FAIL the loosening variant was not made"; fail=1; }
+owners() {  # name, process count, log pattern wanted (or "none:" + pattern refused), run args...
+  local name=$1 np=$2 want=$3; shift 3
+  if ! timeout 600 mpirun -np "$np" "$bin" run "$@" --out "$tmp/$name" --no-plots >"$tmp/$name.log" 2>&1; then
+    echo "FAIL $name: exit $?"; tail -5 "$tmp/$name.log"; fail=1; return 1; fi
+  if [ "${want#none:}" != "$want" ]; then
+    if grep -q "${want#none:}" "$tmp/$name.log"; then echo "FAIL $name: '${want#none:}' in its log"; fail=1; return 1; fi
+  elif ! grep -q "$want" "$tmp/$name.log"; then
+    echo "FAIL $name: no '$want' in its log:"; grep -i "moved\|ownership" "$tmp/$name.log"; fail=1; return 1
+  fi
+}
+if timeout 600 "$bin" run "$tmp/loosening.toml" --out "$tmp/loosening-1" --quiet --no-plots >"$tmp/loosening-1.log" 2>&1; then
+  for np in 2 3; do
+    # at the excavation, and again at least once as the blocks loosen
+    if owners loosening-$np $np "blocks shared out again (METIS" "$tmp/loosening.toml" --imbalance-limit 1.02 &&
+       [ "$(grep -c 'shared out again' "$tmp/loosening-$np.log")" -ge 2 ] &&
+       r=$(compare "$tmp/loosening-1" "$tmp/loosening-$np"); then
+      echo "ok   blocks shared out again on $np processes ($(grep -c 'shared out again' "$tmp/loosening-$np.log") times): $r"
+    else echo "FAIL blocks shared out again on $np processes: ${r:-}"; fail=1; fi
+    r=
+  done
+  if owners loosening-never 3 "none:shared out again" "$tmp/loosening.toml" --imbalance-limit 0 &&
+     r=$(compare "$tmp/loosening-1" "$tmp/loosening-never"); then echo "ok   --imbalance-limit 0 shares nothing out again: $r"
+  else echo "FAIL --imbalance-limit 0: ${r:-}"; fail=1; fi
+else
+  echo "FAIL loosening serial: exit $?"; tail -5 "$tmp/loosening-1.log"; fail=1
+fi
+r=
+if owners collapse-strays 3 "moved to the process whose blocks" "$src/tests/cli/parallel/collapse.toml" &&
+   r=$(compare "$tmp/collapse-1" "$tmp/collapse-strays"); then
+  echo "ok   fallen blocks moved to the process they touch ($(grep -c 'moved to the process' "$tmp/collapse-strays.log") times): $r"
+else echo "FAIL fallen blocks moved: ${r:-}"; fail=1; fi
+. "$src/tests/cli/lib/expect.sh"
+for bad in 0.5 two 101 1.2x; do
+  expect "--imbalance-limit $bad" 2 run "$src/tests/cli/parallel/collapse.toml" --imbalance-limit "$bad" --out "$tmp/bad-limit" --quiet -- \
+    "--imbalance-limit" "give a factor from 1 to 100"
+  [ -e "$tmp/bad-limit" ] && { echo "FAIL --imbalance-limit $bad made a folder"; fail=1; }
+done
 
 # Bad input under mpirun: non-zero exit, the message once.
 sed 's/^friction = "20 deg"/friction = "95 deg"/' "$src/cases/sliding_block/incline.toml" > "$tmp/bad.toml"
