@@ -351,7 +351,8 @@ OwnerChange MpiCommunication::plan_owners(Model& m, double margin, double limit,
     const std::vector<int> fresh = matched_to_owners(partition_graph(g, size_, rank_), p.owner, g.vwgt, size_);
     const double before = imbalance_of(p.owner, g.vwgt, size_), after = imbalance_of(fresh, g.vwgt, size_);
     settled_imbalance_ = std::min(before, after);
-    if (after < before) {
+    // Worth the move only for a clear gain (a partition 0.003 better moved 66 of 171 blocks).
+    if (after < before - 0.01) {
       owner = fresh;
       ch.repartitioned = true;
       ch.imbalance_before = before;

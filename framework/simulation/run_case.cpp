@@ -475,7 +475,7 @@ void check_owners(Run& r) {
   os << "step " << r.c.model.step << ": ";
   if (ch.repartitioned) {
     os << "blocks shared out again (METIS, load imbalance " << ch.imbalance_before << " -> " << ch.imbalance_after << "): " << ch.moved
-       << " blocks moved";
+       << (ch.moved == 1 ? " block" : " blocks") << " moved";
   } else {
     os << ch.moved << (ch.moved == 1 ? " block" : " blocks") << " moved to the process whose blocks " << (ch.moved == 1 ? "it touches" : "they touch")
        << " (";

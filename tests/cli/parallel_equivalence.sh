@@ -130,7 +130,7 @@ fi
 # Blocks changing owner within a run (Engine::rebalance; the runs above may change some too): a
 # variant of the rock mass with a large opening on one side and weaker joints, whose excavation
 # and loosening leave the processes out of balance (--imbalance-limit 1.02: the blocks are shared
-# out again with METIS at the excavation and three times as blocks loosen, deformable blocks with
+# out again with METIS at the excavation and again as blocks loosen, deformable blocks with
 # their zones, contacts and energy balance; leaving the balance's state behind fails this),
 # and the collapse, whose falling blocks land among another process's blocks (they move to it).
 # Each gives the serial run's results; with --imbalance-limit 0 nothing is shared out again.
