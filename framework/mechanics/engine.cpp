@@ -173,13 +173,14 @@ void Engine::refresh_contacts() {
 OwnerChange Engine::rebalance(double limit) {
   if (!m_.part.decomposed()) return {};
   const auto t0 = std::chrono::steady_clock::now();
-  check_state();
   ContactList local;
   OwnerChange ch = comm_.plan_owners(m_, 2.0 * s_.detection.distance, limit, &local);
   if (ch.owner.empty()) {
     if (ch.collected) m_.contacts.restore(std::move(local));  // back to this process's own list
     return ch;
   }
+  // The state handed over becomes the last good one: it must be good.
+  check_state();
   // One process holds each of these values and the others zero, so each sum is the owner's
   // value exactly. (The masses of the time step need not travel: the detection made again below
   // recomputes them, on the new owners, from the same stiffnesses, so they are the same.)
@@ -220,7 +221,15 @@ OwnerChange Engine::rebalance(double limit) {
     const EnergyTerms mine = energy_.terms();
     if (!energy_.restore(m_, items, mine, energy_.scale())) throw std::logic_error("rebalance: the energy balance's state did not fit");
   }
+  // The detection made again finds every contact the run's own detection found just before, so
+  // it marks none of them as new: which were is put back (a contact field the outputs carry).
+  std::vector<ContactKey> fresh;
+  for (const Contact& c : m_.contacts.items)
+    if (c.fresh) fresh.push_back(c.key);
+  std::sort(fresh.begin(), fresh.end());
   refresh_contacts();
+  for (Contact& c : m_.contacts.items)
+    if (std::binary_search(fresh.begin(), fresh.end(), c.key)) c.fresh = true;
   last_good_.take(m_);
   ch.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return ch;

@@ -348,7 +348,13 @@ OwnerChange MpiCommunication::plan_owners(Model& m, double margin, double limit,
     collect(m, -1, local, kWholeState);
     ch.collected = true;
     const BlockGraph g = block_graph(m, margin);
-    const std::vector<int> fresh = matched_to_owners(partition_graph(g, size_, rank_), p.owner, g.vwgt, size_);
+    std::vector<int> fresh;
+    try {
+      fresh = matched_to_owners(partition_graph(g, size_, rank_), p.owner, g.vwgt, size_);
+    } catch (const std::runtime_error&) {
+      // (Raised on every process alike.) A run does not need a new partition: it goes on as it is.
+      fresh = p.owner;
+    }
     const double before = imbalance_of(p.owner, g.vwgt, size_), after = imbalance_of(fresh, g.vwgt, size_);
     settled_imbalance_ = std::min(before, after);
     // Worth the move only for a clear gain (a partition 0.003 better moved 66 of 171 blocks).
