@@ -181,45 +181,27 @@ OwnerChange Engine::rebalance(double limit) {
   }
   // The state handed over becomes the last good one: it must be good.
   check_state();
-  // One process holds each of these values and the others zero, so each sum is the owner's
-  // value exactly. (The masses of the time step need not travel: the detection made again below
-  // recomputes them, on the new owners, from the same stiffnesses, so they are the same.)
-  auto share = [&](double* v, std::size_t n) { comm_.sum(v, static_cast<int>(n)); };
-  // Per block: the contact force of the last step, the damping's running averages.
-  const std::size_t nb = m_.blocks.size();
-  std::vector<double> per_block(5 * nb, 0.0);
-  block_contact_force_.resize(nb, Vec2::Zero());
-  smooth_v_.resize(nb, Vec2::Zero());
-  smooth_w_.resize(nb, 0.0);
-  for_owned_blocks(m_, [&](int bi) {
-    const auto b = static_cast<std::size_t>(bi);
-    double* v = &per_block[5 * b];
-    v[0] = block_contact_force_[b].x();
-    v[1] = block_contact_force_[b].y();
-    v[2] = smooth_v_[b].x();
-    v[3] = smooth_v_[b].y();
-    v[4] = smooth_w_[b];
-  });
-  share(per_block.data(), per_block.size());
-  for (std::size_t b = 0; b < nb; ++b) {
-    const double* v = &per_block[5 * b];
-    block_contact_force_[b] = Vec2(v[0], v[1]);
-    smooth_v_[b] = Vec2(v[2], v[3]);
-    smooth_w_[b] = v[4];
-  }
-  // The energy balance: its per-item state moves with the items; the terms each process has
-  // summed so far stay where they are (only their sum over the processes means anything).
-  auto items = energy_.saved_items(m_);
-  for (auto& [name, v] : items)
-    if (name != "energy.dt_prev") share(v.data(), v.size());
+  // What only owners hold, summed over the processes as a checkpoint takes it (each block's
+  // contact force, the energy balance's per-item state, the damping's running averages: one
+  // process holds each value and the others zero, so each sum is the owner's value exactly). The
+  // masses of the time step need not travel: the detection made again below recomputes them, on
+  // the new owners, from the same stiffnesses, so they are the same.
+  auto held = saved_state();
+  held.merge(saved_stage_state());
   if (!ch.collected) comm_.collect(m_, -1);
   assign_owners(m_, std::move(ch.owner), comm_.rank());
   ch.owner = m_.part.owner;
-  // (Right after an excavation the balance's arrays are still those of the model before it: it
-  // starts them afresh at the next step, wherever the items are, and nothing is handed over.)
-  if (items.count("energy.r_prev")) {
+  resume_stage(held, "rebalance");  // the damping's averages (and the same stage clock)
+  const std::vector<double>& force = held.at("engine.block_contact_force");
+  block_contact_force_.resize(m_.blocks.size());
+  for (std::size_t b = 0; b < block_contact_force_.size(); ++b) block_contact_force_[b] = Vec2(force[2 * b], force[2 * b + 1]);
+  // The energy balance's terms each process has summed so far stay where they are (only their
+  // sum over the processes means anything; restore_state would give them all to process 0).
+  // Right after an excavation the balance's arrays are still those of the model before it: it
+  // starts them afresh at the next step, wherever the items are, and nothing is handed over.
+  if (held.count("energy.r_prev")) {
     const EnergyTerms mine = energy_.terms();
-    if (!energy_.restore(m_, items, mine, energy_.scale())) throw std::logic_error("rebalance: the energy balance's state did not fit");
+    if (!energy_.restore(m_, held, mine, energy_.scale())) throw std::logic_error("rebalance: the energy balance's state did not fit");
   }
   // The detection made again finds every contact the run's own detection found just before, so
   // it marks none of them as new: which were is put back (a contact field the outputs carry).
