@@ -40,7 +40,7 @@ void DirectShearRecorder::sample(History& h) {
   std::vector<double> v{here ? m.blocks[d.loader].xc.x() - loader_x0_ : 0.0, here ? normal_disp() - normal0_ : 0.0};
   v.push_back(m.part.owns(d.loader) ? e_.contact_force_on(d.loader).x() : 0.0);
   for (int l : d.other_loaders) v.push_back(m.part.owns(l) ? e_.contact_force_on(l).x() : 0.0);
-  comm.sum(v.data(), static_cast<int>(v.size()));
+  comm.sum_held(v.data(), static_cast<int>(v.size()));
   double fx = v[2];
   for (std::size_t k = 3; k < v.size(); ++k) fx += v[k];
   const double tau = -fx / d.joint_length;

@@ -421,18 +421,18 @@ std::map<std::string, std::vector<double>> Engine::saved_state() const {
       force[2 * b + 1] = block_contact_force_[b].y();
     }
   // One process holds each block's value and the others zero, so the sum is that value exactly.
-  if (comm_.size() > 1) comm_.sum(force.data(), static_cast<int>(force.size()));
+  if (comm_.size() > 1) comm_.sum_held(force.data(), static_cast<int>(force.size()));
   std::map<std::string, std::vector<double>> a{
       {"engine.block_contact_force", std::move(force)},
       {"engine.step_values", {ratio_, block_ratio_, static_cast<double>(worst_block_), max_speed_}}};
   // The energy balance, when something tracks it, goes on from its terms (the whole model's).
   auto items = energy_.saved_items(m_);
   if (comm_.size() > 1) {
-    // Per-item arrays add up to the whole model's (each process fills its own items); the last
-    // step's dt is the same on every process and is not summed. Tracking starts at the same
-    // step everywhere, so every process holds the same keys.
+    // Per-item arrays add up to the whole model's (each process fills its own items, zeros
+    // elsewhere); the last step's dt is the same on every process and is not summed. Tracking
+    // starts at the same step everywhere, so every process holds the same keys.
     for (auto& [name, v] : items)
-      if (name != "energy.dt_prev") comm_.sum(v.data(), static_cast<int>(v.size()));
+      if (name != "energy.dt_prev") comm_.sum_held(v.data(), static_cast<int>(v.size()));
   }
   if (!items.empty()) {
     const EnergyTerms& t = comm_.size() == 1 ? energy_.terms() : energy_sum_;
@@ -481,7 +481,7 @@ std::map<std::string, std::vector<double>> Engine::saved_stage_state() const {
       v[3 * b + 2] = smooth_w_[b];
     }
   // One process holds each block's values and the others zero: the sum is the owner's, exactly.
-  if (comm_.size() > 1) comm_.sum(v.data(), static_cast<int>(v.size()));
+  if (comm_.size() > 1) comm_.sum_held(v.data(), static_cast<int>(v.size()));
   return {{"engine.stage_clock", {stage_time_}}, {"engine.damping_averages", std::move(v)}};
 }
 

@@ -79,6 +79,11 @@ class Communication {
   // Global sums (in place), minimum and maximum, the same on every process. Sums are formed in
   // process order, so they are the same from run to run on a given process count.
   virtual void sum(double* /*values*/, int /*n*/) const {}
+  // Sums (in place) of values that one process holds each, the others giving zero (what only a
+  // block's owner knows: its contact force, its damping averages). Adding zeros is exact in any
+  // order, so one reduction gives the owner's value on every process, without every process
+  // receiving every other's array as `sum` does.
+  virtual void sum_held(double* /*values*/, int /*n*/) const {}
   virtual double min(double v) const { return v; }
   virtual double max(double v) const { return v; }
   // The first non-empty message of all processes (in rank order): an error found on one process

@@ -585,6 +585,11 @@ void MpiCommunication::sum(double* values, int n) const {
   }
 }
 
+void MpiCommunication::sum_held(double* values, int n) const {
+  const Stopwatch watch(spent_.reduce);
+  if (n > 0) MPI_Allreduce(MPI_IN_PLACE, values, n, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
+}
+
 double MpiCommunication::min(double v) const {
   const Stopwatch watch(spent_.reduce);
   double out = v;

@@ -29,6 +29,7 @@ class MpiCommunication final : public Communication {
   void forward(Model& m) override;
   void gather_all(const double* values, int n, std::vector<double>& all) const override;
   void sum(double* values, int n) const override;
+  void sum_held(double* values, int n) const override;
   double min(double v) const override;
   double max(double v) const override;
   std::string first_message(const std::string& message) const override;

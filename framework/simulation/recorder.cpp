@@ -84,7 +84,7 @@ double Recorder::value(const HistorySpec& s) const {
     case Reduction::global: return s.quantity->measure(m, e_, s.target);
     case Reduction::owner: {
       double v = m.part.owns(s.target.block) ? s.quantity->measure(m, e_, s.target) : 0.0;
-      comm.sum(&v, 1);
+      comm.sum_held(&v, 1);
       return v;
     }
     case Reduction::state: break;
