@@ -8,7 +8,8 @@
 # jointed rock, the direct-shear specimen, two blocks (more processes than blocks) and an
 # earthquake through a compliant base with free-field sides (held reactions, energy balance). Also: a restart from a checkpoint of a 2-process run on 3 processes
 # (at a stage end, and within the free-field earthquake),
-# blocks changing owner within a run (shared out again, moved to the process they touch), bad
+# blocks changing owner within a run (shared out again, moved to the process they touch; also
+# under local damping), bad
 # input under mpirun, and the case of more processes than blocks.
 # Usage: bash parallel_equivalence.sh <rockdem-binary> <source-dir>
 set -u
@@ -173,6 +174,17 @@ if owners collapse-strays 3 "moved to the process whose blocks" "$src/tests/cli/
    r=$(compare "$tmp/collapse-1" "$tmp/collapse-strays"); then
   echo "ok   fallen blocks moved to the process they touch ($(grep -c 'moved to the process' "$tmp/collapse-strays.log") times): $r"
 else echo "FAIL fallen blocks moved: ${r:-}"; fail=1; fi
+# The same under local damping, whose running averages of each block's velocity only the owner
+# keeps: they go with a block that changes owner (on 3 processes, shared out again and a stray
+# moved, both within the stage; leaving the averages behind fails this).
+r=
+sed 's/^damping = "none"/damping = "local"/' "$src/tests/cli/parallel/collapse.toml" > "$tmp/collapse_local.toml"
+if grep -q '^damping = "local"' "$tmp/collapse_local.toml" &&
+   timeout 600 "$bin" run "$tmp/collapse_local.toml" --out "$tmp/collapse_local-1" --quiet --no-plots >"$tmp/collapse_local-1.log" 2>&1 &&
+   owners collapse_local-3 3 "moved to the process whose blocks" "$tmp/collapse_local.toml" &&
+   r=$(compare "$tmp/collapse_local-1" "$tmp/collapse_local-3"); then
+  echo "ok   under local damping, blocks change owner on 3 processes ($(grep -c '^step [0-9]*: .*moved' "$tmp/collapse_local-3.log") changes): $r"
+else echo "FAIL blocks changing owner under local damping: ${r:-}"; fail=1; fi
 . "$src/tests/cli/lib/expect.sh"
 for bad in 0.5 two 101 1.2x; do
   expect "--imbalance-limit $bad" 2 run "$src/tests/cli/parallel/collapse.toml" --imbalance-limit "$bad" --out "$tmp/bad-limit" --quiet -- \
