@@ -3,12 +3,15 @@
 // (framework/lab/direct_shear_specimen.hpp).
 #include <algorithm>
 #include <cctype>
+#include <charconv>
+#include <cstdint>
 #include <chrono>
 #include <cstdlib>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <map>
 #include <sstream>
 #include <vector>
@@ -250,6 +253,14 @@ const CommandRegistrar reg{Command{
                      "NAME=FILE: the case's [[joints]] entry NAME takes its law, parameters and effects from FILE (a TOML "
                      "table with the keys of a [[joints]] entry, or the JSON of rockdem calibrate/diagnose); where it acts "
                      "stays as in the case; FILE is copied into the output folder (joints/); repeatable");
+      auto excavations = std::make_shared<std::vector<std::string>>();
+      sub.add_option("--excavate", *excavations,
+                     "STAGE=NAME,...: the case's stage STAGE excavates these blocks or groups instead of its own excavate list "
+                     "(STAGE= for none), e.g. an overbreak chosen for another realisation (--seed); repeatable");
+      auto seed = std::make_shared<std::string>();
+      sub.add_option("--seed", *seed,
+                     "rock-mass cases: draw the joint sets with this seed instead of the case's [rock_mass] seed (another "
+                     "realisation of the same joint statistics; a whole number from 0 to 2^63 - 1)");
       auto threads = std::make_shared<int>(1);
       sub.add_option("--threads", *threads,
                      "threads of each process for the zone, contact-law, contact-geometry and detection loops (the results "
@@ -272,7 +283,7 @@ const CommandRegistrar reg{Command{
               "FACTOR"))
           ->capture_default_str();
       return [file, out, use_default, quiet, no_plots, overwrite, restart, velocity, mass_dt, nstages, write_case,
-              write_blocks, joints, checkpoint_every, threads, imbalance]() -> int {
+              write_blocks, joints, checkpoint_every, threads, imbalance, seed, excavations]() -> int {
         // Under mpirun every process runs the case (its share of the blocks); process 0 writes.
         const std::unique_ptr<Communication> parallel = make_communication();
         Communication& comm = parallel ? *parallel : serial_communication();
@@ -297,7 +308,8 @@ const CommandRegistrar reg{Command{
           throw InputError(which + "; --shear-velocity, --mass-scaling-dt, --stages and --write-case apply to laboratory-test "
                            "case files ([joint] and [[stage]] tables, e.g. cases/direct_shear/test09_mohr_coulomb.toml)");
         }
-        std::map<std::string, std::string> joint_files;
+        CaseOverrides overrides;
+        std::map<std::string, std::string>& joint_files = overrides.joint_files;
         for (const auto& a : *joints) {
           const auto eq = a.find('=');
           if (eq == std::string::npos || eq == 0 || eq + 1 == a.size())
@@ -309,6 +321,38 @@ const CommandRegistrar reg{Command{
         if (!joint_files.empty() && (lab || *use_default))
           throw InputError("rockdem run: --joint applies to DEM case files with [[joints]] entries (a laboratory-test case "
                            "names its one joint in [joint])");
+        for (const auto& a : *excavations) {
+          const auto eq = a.find('=');
+          if (eq == std::string::npos || eq == 0)
+            throw InputError("--excavate " + a + ": write STAGE=NAME,... (blocks or groups; STAGE= for none), e.g. --excavate "
+                             "excavate=drift");
+          std::vector<std::string> names;
+          for (std::size_t at = eq + 1; at < a.size();) {
+            const std::size_t comma = std::min(a.find(',', at), a.size());
+            if (comma == at) throw InputError("--excavate " + a + ": an empty name in the list");
+            names.push_back(a.substr(at, comma - at));
+            at = comma + 1;
+            if (comma + 1 == a.size()) throw InputError("--excavate " + a + ": an empty name in the list");
+          }
+          if (!overrides.excavate.emplace(a.substr(0, eq), std::move(names)).second)
+            throw InputError("--excavate " + a + ": stage '" + a.substr(0, eq) + "' is given twice");
+        }
+        if (!overrides.excavate.empty() && (lab || *use_default))
+          throw InputError("rockdem run: --excavate applies to DEM case files with [[stages]] (a laboratory-test case "
+                           "excavates nothing)");
+        if (!seed->empty()) {
+          std::int64_t n = -1;
+          const char* end = seed->data() + seed->size();
+          const auto [at, ec] = std::from_chars(seed->data(), end, n);
+          if (ec != std::errc() || at != end || n < 0)
+            throw InputError("--seed " + *seed + ": give a whole number from 0 to " + std::to_string(std::numeric_limits<std::int64_t>::max()) +
+                             " (the seed of the case's [rock_mass] joint sets)");
+          if (lab || *use_default)
+            throw InputError("rockdem run: --seed applies to DEM case files with a [rock_mass] table (the seed of its joint "
+                             "sets); " + (*use_default ? std::string("--default is the built-in direct-shear case")
+                                                        : *file + " is a laboratory-test case"));
+          overrides.rock_mass_seed = n;
+        }
         Case c;
         if (lab) {
           const LabTest test = read_lab_test(*file);
@@ -333,7 +377,7 @@ const CommandRegistrar reg{Command{
           c = direct_shear_case(test, o);
         } else {
           c = *use_default ? load_case_text(kDefaultCaseText, "built-in default case (cases/direct_shear/test09_coulomb.toml)", ".")
-                           : load_case(*file, joint_files);
+                           : load_case(*file, overrides);
         }
         if (!checkpoint_every->empty()) read_checkpoint_interval(*checkpoint_every, "--checkpoint-every", c.output);
         c.settings.threads = *threads;

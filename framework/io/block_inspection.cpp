@@ -17,7 +17,9 @@ std::string write_blocks_for_inspection(const Case& c, const std::string& case_f
   std::map<std::string, const RockMassBlock*> generated;
   std::vector<BlockSpec> specs;
   if (!case_file.empty()) {
-    const toml::table root = parse_toml_file(case_file, "case file");
+    // The case as it was read, with what the command line changed in it (--seed draws other
+    // blocks than the file's seed): the traces must be those of the blocks built.
+    const toml::table root = c.source_toml.empty() ? parse_toml_file(case_file, "case file") : toml::parse(c.source_toml, case_file);
     if (const auto* t = root["rock_mass"].as_table()) specs = rock_mass_blocks(read_rock_mass(*t, case_file), &rm);
   }
   for (std::size_t i = 0; i < specs.size(); ++i) generated[specs[i].name] = &rm.blocks[i];

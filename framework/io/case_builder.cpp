@@ -311,6 +311,11 @@ void CaseBuilder::add_region_boundary(const BoundarySpec& s) {
   if (selections.empty())
     throw InputError(s.region_where + ": no boundary gridpoint of any block lies in the region; check its coordinates "
                      "and units (or the line's tolerance)");
+  {
+    RegionCondition rc{{}, static_cast<bool>(kind.make_spanning), s.stages, s.where};
+    for (const FaceSelection& sel : selections) rc.blocks.push_back(sel.block);
+    region_conditions_.push_back(std::move(rc));
+  }
   if (kind.make_spanning) {
     ConditionInput in{m, selections.front(), m.blocks[selections.front().block].rigid, s.values, s.where};
     in.stress_field = c_.in_situ ? &*c_.in_situ : nullptr;
@@ -486,8 +491,50 @@ void CaseBuilder::finish_stages() {
                        c_.stages[static_cast<std::size_t>(k)].name + ".excavate), but it is active in that stage or "
                        "later; limit it to earlier stages with stages = [...] or do not excavate the block");
   }
+  check_region_conditions();
   check_stage_motions();
   check_column_tops();
+}
+
+// An excavation takes a region condition's gridpoints on the blocks it removes. Losing some of
+// them is what excavating at a boundary means (a warning says which); losing all of them, or any
+// block of a free-field column, would silently leave that side of the model free from then on (a
+// case excavating blocks by the names of another realisation of its rock mass lost its far
+// field's right half, and with it a fixed side, and its rock fell out of the model).
+void CaseBuilder::check_region_conditions() {
+  const Model& m = c_.model;
+  for (const RegionCondition& rc : region_conditions_) {
+    std::vector<int> gone;  // of rc.blocks, excavated by the stages so far
+    for (std::size_t k = 0; k < c_.stages.size(); ++k) {
+      const StageSpec& st = c_.stages[k];
+      std::vector<int> now;
+      for (int b : rc.blocks)
+        if (std::count(st.excavate.begin(), st.excavate.end(), m.blocks[static_cast<std::size_t>(b)].id)) now.push_back(b);
+      if (now.empty()) continue;
+      gone.insert(gone.end(), now.begin(), now.end());
+      // Acting in this stage or a later one?
+      bool acts = rc.stages.empty();
+      for (std::size_t j = k; j < c_.stages.size() && !acts; ++j)
+        acts = std::count(rc.stages.begin(), rc.stages.end(), c_.stages[j].name) > 0;
+      if (!acts) continue;
+      std::vector<std::string> names, kept;
+      for (int b : now) names.push_back(m.blocks[static_cast<std::size_t>(b)].name);
+      for (int b : rc.blocks)
+        if (!std::count(gone.begin(), gone.end(), b)) kept.push_back(m.blocks[static_cast<std::size_t>(b)].name);
+      const std::string what = rc.where + ": stage '" + st.name + "' excavates " + (names.size() == 1 ? "block " : "blocks ") +
+                               join_names(names) + ", on which this boundary acts";
+      const std::string fix = "; limit the boundary to earlier stages with stages = [...], or do not excavate " +
+                              std::string(names.size() == 1 ? "that block" : "those blocks") +
+                              " (with a rock mass, excavate its openings or groups: its numbered blocks are other blocks in "
+                              "another realisation)";
+      if (rc.spanning)
+        throw InputError(what + ": a free-field column runs beside all of its blocks and cannot lose one" + fix);
+      if (kept.empty())
+        throw InputError(what + ", and no other block: it would act on nothing from that stage on, and the model would lose "
+                         "that support without a word" + fix);
+      c_.warnings.push_back(what + "; it acts on " + join_names(kept) + " from that stage on");
+    }
+  }
 }
 
 int CaseBuilder::component_index(const HistoryQuantity& q, const HistoryInput& s) {

@@ -77,6 +77,16 @@ class CaseBuilder {
     std::string where;
   };
   std::vector<NamedCondition> named_conditions_;
+  // Conditions on a region (a line or box), with the blocks it took gridpoints of: an excavation
+  // may take some of them away, not all (nor any of a spanning condition's, a free-field column).
+  struct RegionCondition {
+    std::vector<int> blocks;
+    bool spanning = false;
+    std::vector<std::string> stages;
+    std::string where;
+  };
+  std::vector<RegionCondition> region_conditions_;
+  void check_region_conditions();
   std::set<std::string> edge_joint_names_;  // joint sets and named joints that block edges lie on
   // The quiet and free_field [[boundary]] entries, in the order given: whether a free-field
   // column's top matches the model's top is a question about both, answered once the stages are known.

@@ -83,4 +83,42 @@ bad unknown_set "joints.traces.joint_sets" "'flatt'" "fault, flat, steep"
 variant bad_shape 's/^shape = "circle"/shape = "oval"/'
 bad bad_shape "rock_mass.openings.shape" "unknown shape 'oval'" "circle, horseshoe, polygon"
 
+# --seed N: another realisation of the same joint sets, as if the case said seed = N; the case's own
+# seed is the case; names of numbered blocks (rm.<k>) are refused under another seed, since they
+# are other blocks then (the case's fixed boundary names rm.0).
+variant by_line 's/^block = "rm.0"/line = { from = ["0 m", "0 m"], to = ["10 m", "0 m"], tolerance = "1 mm" }/'
+variant by_line_8 's/^block = "rm.0"/line = { from = ["0 m", "0 m"], to = ["10 m", "0 m"], tolerance = "1 mm" }/; s/^seed = 7/seed = 8/'
+"$bin" run "$tmp/by_line.toml" --seed 8 --write-blocks "$tmp/seed_opt" --quiet >/dev/null 2>&1
+"$bin" run "$tmp/by_line_8.toml" --write-blocks "$tmp/seed_file" --quiet >/dev/null 2>&1
+"$bin" run "$tmp/by_line.toml" --write-blocks "$tmp/seed_own" --quiet >/dev/null 2>&1
+if [ -s "$tmp/seed_opt/blocks.csv" ] && cmp -s "$tmp/seed_opt/blocks.csv" "$tmp/seed_file/blocks.csv" &&
+   ! cmp -s "$tmp/seed_opt/blocks.csv" "$tmp/seed_own/blocks.csv"; then
+  echo "ok   --seed 8 draws the blocks of seed = 8 ($(($(wc -l < "$tmp/seed_opt/blocks.csv") - 1)) blocks), not those of the case's seed 7"
+else echo "FAIL --seed 8: blocks.csv not that of seed = 8, or that of seed 7"; fail=1; fi
+if "$bin" run "$base" --seed 7 --write-blocks "$tmp/seed_7" --quiet >/dev/null 2>&1 && cmp -s "$tmp/seed_7/blocks.csv" "$tmp/blocks/blocks.csv"; then
+  echo "ok   --seed 7 (the case's own) is the case, its numbered boundary block included"
+else echo "FAIL --seed 7 is not the case itself"; fail=1; fi
+expect seed_numbered_block 2 run "$base" --seed 8 --out "$tmp/out_seed8" --quiet -- \
+  "sample.toml:78 key 'boundary.block'" "names block 'rm.0' by its number" "--seed 8" "select by location"
+for v in -1 x 1.5 99999999999999999999; do
+  expect "seed $v" 2 run "$base" --seed "$v" --out "$tmp/out_seed" --quiet -- "--seed $v" "give a whole number from 0 to 9223372036854775807"
+done
+expect seed_no_rock_mass 2 run "$src/cases/sliding_block/incline.toml" --seed 3 --out "$tmp/out_seed" --quiet -- \
+  "--seed 3" "incline.toml has no [rock_mass] table"
+expect seed_default 2 run --default --seed 3 --out "$tmp/out_seed" --quiet -- "--seed applies to DEM case files with a [rock_mass] table"
+[ -e "$tmp/out_seed" ] && { echo "FAIL a refused --seed made an output folder"; fail=1; }
+
+# An excavation that takes away every block a boundary on a line acts on (here the far-field
+# strip under a fixed top) is refused before running: the model would lose that support
+# silently. One that takes away some of them is a warning naming what the boundary keeps.
+printf '\n[[stages]]\nname = "dig"\nexcavate = ["far_field"]\nuntil = "steps"\nsteps = 10\n' > "$tmp/dig.txt"
+sed 's/^block = "rm.0"/line = { from = ["0 m", "10 m"], to = ["10 m", "10 m"], tolerance = "1 mm" }/' "$base" | cat - "$tmp/dig.txt" > "$tmp/lost_support.toml"
+bad lost_support "lost_support.toml:76 [boundary]" "stage 'dig' excavates block" "on which this boundary acts, and no other block" \
+  "limit the boundary to earlier stages"
+sed 's/^block = "rm.0"/line = { from = ["0 m", "0 m"], to = ["0 m", "10 m"], tolerance = "1 mm" }/' "$base" | cat - "$tmp/dig.txt" > "$tmp/part_support.toml"
+out=$("$bin" run "$tmp/part_support.toml" --out "$tmp/out_part" --quiet 2>&1); code=$?
+if [ $code -eq 0 ] && grep -q "warning: .*part_support.toml:76 \[boundary\]: stage 'dig' excavates block rm\.[0-9]*, on which this boundary acts; it acts on rm\." <<<"$out"; then
+  echo "ok   part of a boundary's blocks excavated: a warning naming what it keeps, and the run goes on"
+else echo "FAIL part of a boundary's blocks excavated: exit $code: $out"; fail=1; fi
+
 exit $fail
