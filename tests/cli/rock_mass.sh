@@ -108,6 +108,21 @@ expect seed_no_rock_mass 2 run "$src/cases/sliding_block/incline.toml" --seed 3 
 expect seed_default 2 run --default --seed 3 --out "$tmp/out_seed" --quiet -- "--seed applies to DEM case files with a [rock_mass] table"
 [ -e "$tmp/out_seed" ] && { echo "FAIL a refused --seed made an output folder"; fail=1; }
 
+# --excavate STAGE=NAMES: the stage excavates these instead (here the opening, which the case's
+# one stage leaves in place); bad forms are refused naming the option.
+"$bin" run "$base" --excavate settle=drift --out "$tmp/run_dug" --quiet >/dev/null 2>&1
+if n=$(/usr/bin/python3 -c "import h5py,sys; print(*(len(h5py.File(f'{d}/final_state.h5')['blocks/name']) for d in sys.argv[1:]))" "$tmp/run" "$tmp/run_dug" 2>&1) &&
+   [ "${n% *}" -gt "${n#* }" ] && grep -q -- "--excavate settle=drift" "$tmp/run_dug/manifest.json"; then
+  echo "ok   --excavate settle=drift removes the opening's blocks (blocks: $n)"
+else echo "FAIL --excavate settle=drift: blocks $n"; fail=1; fi
+expect excavate_no_stage 2 run "$base" --excavate setle=drift --out "$tmp/out_ex" --quiet -- "--excavate setle=..." "has no stage 'setle'" "did you mean 'settle'"
+expect excavate_empty_name 2 run "$base" --excavate settle=drift,,rm.1 --out "$tmp/out_ex" --quiet -- "an empty name in the list"
+expect excavate_twice 2 run "$base" --excavate settle=drift --excavate settle= --out "$tmp/out_ex" --quiet -- "stage 'settle' is given twice"
+expect excavate_unknown 2 run "$base" --excavate settle=tunnel --out "$tmp/out_ex" --quiet -- \
+  "as the command line gave it" "excavates 'tunnel', which is neither a block nor a block group"
+expect excavate_no_form 2 run "$base" --excavate drift --out "$tmp/out_ex" --quiet -- "write STAGE=NAME,..."
+[ -e "$tmp/out_ex" ] && { echo "FAIL a refused --excavate made an output folder"; fail=1; }
+
 # An excavation that takes away every block a boundary on a line acts on (here the far-field
 # strip under a fixed top) is refused before running: the model would lose that support
 # silently. One that takes away some of them is a warning naming what the boundary keeps.
