@@ -8,6 +8,8 @@
 #  - regression: summary.csv against tests/cli/drift/compare_summary_gold.csv (fallen blocks
 #    exactly, displacements to 0.5 mm + 5 %, extents to 0.1 m, permeability ratios to 10 %);
 #  - no stage of any model has a gridpoint faster than 20 m/s (the report's flag);
+#  - an ensemble (--seeds) over realisations of a small rock mass: each run given its seed, runs
+#    that did not finish named, the counts per model and stage those of the runs' rows;
 #  - bad arguments to the script are refused (exit 2) naming them.
 # Usage: bash drift_compare.sh <rockdem-binary> <source-dir>
 set -u
@@ -77,8 +79,51 @@ check(not worst, "summary.csv matches the gold file within its tolerances" + (""
 sys.exit(1 if fail else 0)
 PY
 
+# An ensemble (--seeds): two models over three realisations of tests/cli/drift/results.toml's rock
+# mass (a few seconds each). Each realisation is a comparison of its own (seed<N>/index.html);
+# the ensemble's page and ensemble.csv count, per model and stage, the realisations that reached
+# the stage's end and those with fallen blocks; runs that did not finish are named and give exit 1.
+ens_laws="$src/cases/drift/laws/mohr_coulomb.toml $src/cases/drift/laws/continuously_yielding.toml"
+ROCKDEM_BIN=$bin "$src/scripts/drift-compare" --case "$src/tests/cli/drift/results.toml" --laws "$ens_laws" \
+  --seeds "11 12 13" --out "$tmp/e" > "$tmp/elog" 2>&1
+erc=$?
+/usr/bin/python3 - "$tmp/e" "$erc" <<'PY' || fail=1
+import csv, json, os, sys
+out, rc = sys.argv[1], int(sys.argv[2])
+fail = False
+def check(good, what):
+    global fail
+    print(("ok   " if good else "FAIL ") + what)
+    fail = fail or not good
+seeds, models = ["11", "12", "13"], ["mohr_coulomb", "continuously_yielding"]
+status = {(s, v): json.load(open(os.path.join(out, f"seed{s}", v, "manifest.json"))) for s in seeds for v in models}
+check(all(f"--seed {s}" in status[(s, v)]["command_line"] for s, v in status), "every run was given its seed (manifests)")
+finished = {k for k, m in status.items() if m["status"] == "finished"}
+check(rc == (0 if len(finished) == len(status) else 1), f"exit {rc}: {len(finished)} of {len(status)} runs finished")
+page = open(os.path.join(out, "index.html")).read()
+missing = [f"{v} seed {s}" for (s, v) in status if (s, v) not in finished and f"seed {s}:" not in page]
+check(not missing, "the ensemble's page names every run that did not finish" + (": missing " + ", ".join(missing) if missing else ""))
+check(all(f"seed{s}/index.html" in page for s in seeds) and "ensemble_falls.png" in page and
+      os.path.getsize(os.path.join(out, "figures", "ensemble_falls.png")) > 5000, "the page links each realisation's report and shows its figures")
+rows = list(csv.DictReader(open(os.path.join(out, "ensemble.csv"))))
+real = list(csv.DictReader(open(os.path.join(out, "realisations.csv"))))
+ok_counts = True
+for r in rows:
+    reached = [x for x in real if x["variant"] == r["variant"] and x["stage"] == r["stage"]]
+    fallen = [x for x in reached if float(x["fallen_blocks"]) > 0]
+    ok_counts &= int(r["realisations"]) == len(reached) and int(r["with_fallen_blocks"]) == len(fallen)
+check(rows and ok_counts, f"ensemble.csv: {len(rows)} rows, each counting the realisations.csv rows of its model and stage")
+# different realisations give different blocks, hence different results
+last = {(x["seed"], x["variant"]): float(x["max_slip_near_m"]) for x in real if x["name"] == "settle"}
+per_model = [[last[(s, v)] for s in seeds if (s, v) in last] for v in models]
+check(all(len(p) < 2 or len(set(p)) == len(p) for p in per_model) and sum(len(p) for p in per_model) >= 2,
+      "each model's realisations differ (largest slip near the opening after 'settle': " +
+      "; ".join(f"{v}: " + ", ".join(f"{1e3 * x:.2f} mm" for x in p) for v, p in zip(models, per_model)) + ")")
+sys.exit(1 if fail else 0)
+PY
+
 # Bad arguments.
-for args in "--np two" "--jobs 0" "--case $tmp/none.toml" "--laws $tmp/none.toml" "--bogus"; do
+for args in "--np two" "--jobs 0" "--case $tmp/none.toml" "--laws $tmp/none.toml" "--bogus" "--seeds 1,2" "--seeds -3"; do
   # shellcheck disable=SC2086
   msg=$(ROCKDEM_BIN=$bin "$src/scripts/drift-compare" $args --out "$tmp/bad" 2>&1)
   rc=$?
