@@ -106,6 +106,8 @@ class ContactStates {
   std::size_t size() const { return chunks_ == 0 ? 0 : data_.size() / chunks_; }
   std::byte* at(std::size_t i) { return data_[i * chunks_].bytes; }
   const std::byte* at(std::size_t i) const { return data_[i * chunks_].bytes; }
+  // Room for n states without reallocating (a list assembled state by state).
+  void reserve(std::size_t n) { data_.reserve(chunks_ * n); }
   // Appends one state (stride() bytes from `s`, or zeros).
   void push_back(const std::byte* s = nullptr) {
     data_.resize(data_.size() + chunks_);

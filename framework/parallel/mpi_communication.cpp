@@ -635,9 +635,10 @@ void MpiCommunication::collect(Model& m, int root, ContactList* local_contacts, 
   if (with_contacts)
     for (const Contact& c : m.contacts.items) owned_contacts += owned_contact(m, c);
   put<std::int64_t>(mine, owned_contacts);
-  // Each contact's fields, then its joint-law state (the same stride on every process: the same
-  // joint models).
+  // Each contact's fields, then its joint-law state. The stride is the same on every process (the
+  // same joint models); it travels so that a mismatch stops here instead of misreading states.
   const std::size_t stride = m.contacts.states.stride();
+  put<std::int64_t>(mine, static_cast<std::int64_t>(stride));
   if (with_contacts)
     for (std::size_t i = 0; i < m.contacts.items.size(); ++i)
       if (owned_contact(m, m.contacts.items[i])) {
@@ -674,6 +675,9 @@ void MpiCommunication::collect(Model& m, int root, ContactList* local_contacts, 
         for (int i = B.first_zone; i < B.first_zone + B.n_zone; ++i) in = unpack(fields::kZoneFields, m.zones[static_cast<std::size_t>(i)], true, in);
     }
     const auto nc = take<std::int64_t>(in);
+    if (take<std::int64_t>(in) != static_cast<std::int64_t>(stride))
+      throw std::logic_error("collecting the model state: process " + std::to_string(r) +
+                             " sent joint-law states of another size than this process's " + std::to_string(stride) + " bytes");
     for (std::int64_t k = 0; k < nc; ++k) {
       Contact c;
       in = unpack(fields::kContactFields, c, false, in);
@@ -691,8 +695,9 @@ void MpiCommunication::collect(Model& m, int root, ContactList* local_contacts, 
   ContactList contacts;
   contacts.items.reserve(order.size());
   contacts.states.reset(stride, 0);
+  contacts.states.reserve(order.size());
   for (std::size_t i : order) {
-    contacts.items.push_back(gathered.items[i]);
+    contacts.items.push_back(std::move(gathered.items[i]));
     contacts.states.push_back(gathered.states.at(i));
   }
   if (local_contacts) *local_contacts = m.contacts.take();
