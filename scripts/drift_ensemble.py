@@ -127,16 +127,21 @@ def main():
     figs = os.path.join(out, "figures")
     os.makedirs(figs, exist_ok=True)
     # Share of realisations with fallen blocks, stage by stage, one line per model.
+    # Each point says how many of how many (a share of 1 of 1 is no evidence); the models are set
+    # slightly apart so that equal shares stay visible.
     fig, ax = plt.subplots(figsize=(8, 4))
     for j, v in enumerate(variants):
-        xs, ys = [], []
+        xs, ys, counts = [], [], []
         for t in table:
             if t[0] == v and t[4] > 0:
-                xs.append(order.index(t[1]))
+                xs.append(order.index(t[1]) + 0.06 * (j - (len(variants) - 1) / 2))
                 ys.append(t[5] / t[4])
+                counts.append(f"{t[5]}/{t[4]}")
         ax.plot(xs, ys, "o-", color=COLORS[j % len(COLORS)], label=label(v))
+        for x, y, c in zip(xs, ys, counts):
+            ax.annotate(c, (x, y), textcoords="offset points", xytext=(3, 4 + 8 * j), fontsize=7, color=COLORS[j % len(COLORS)])
     ax.set_xticks(range(len(order)), [stages[k][0] for k in order])
-    ax.set_ylim(-0.05, 1.05)
+    ax.set_ylim(-0.05, 1.25)
     ax.set_ylabel("realisations with fallen blocks")
     ax.set_title(f"{len(seeds)} realisations (seeds {', '.join(seeds)}): share with blocks fallen at the stage's end", fontsize=9)
     ax.legend(fontsize=8)
