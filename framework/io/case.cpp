@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <sstream>
 
 #include "framework/core/did_you_mean.hpp"
@@ -50,9 +51,14 @@ bool numbered_rock_block(const std::string& name, const std::string& prefix) {
 // and what the block is in the new realisation.
 void check_seeded_names(const toml::table& root, const CaseReader& r, const std::vector<BlockSpec>& blocks,
                         const std::string& prefix, std::int64_t seed) {
+  // Hand-written [[blocks]] keep their names whatever the seed, and names the command line gave
+  // (--excavate, a line-less node) were chosen for this realisation.
+  std::set<std::string> written;
+  for (const auto* t : r.tables(root, "blocks"))
+    if (const auto* n = t->get_as<std::string>("name")) written.insert(n->get());
   auto check = [&](const toml::node& e, const std::string& key) {
     const auto* name = e.as_string();
-    if (!name || !numbered_rock_block(name->get(), prefix)) return;
+    if (!name || e.source().begin.line == 0 || written.count(name->get()) || !numbered_rock_block(name->get(), prefix)) return;
     std::string now = "no block of this realisation";
     for (const BlockSpec& b : blocks)
       if (b.name == name->get()) now = "a block of group '" + b.group + "' in this realisation";
@@ -153,8 +159,9 @@ Case parse(const std::string& text, const std::string& name, const std::string& 
     // author named: only another seed renumbers them.
     const auto* own = rm->get("seed");
     const std::int64_t case_seed = own && own->as_integer() ? own->as_integer()->get() : static_cast<std::int64_t>(RockMassInput{}.seed);
-    rm->insert_or_assign("seed", *overrides.rock_mass_seed);
+    // (Left as it is then, so that a restart without --seed compares equal.)
     if (*overrides.rock_mass_seed == case_seed) return build(root, CaseReader(name, base_dir), overrides.joint_files);
+    rm->insert_or_assign("seed", *overrides.rock_mass_seed);
   }
   return build(root, CaseReader(name, base_dir), overrides.joint_files, overrides.rock_mass_seed);
 }

@@ -27,7 +27,7 @@ struct Reader {
 
   std::string at(const toml::node& n, const std::string& key) const {
     // A value the command line put in (rockdem run --excavate, --seed) has no line in the file.
-    if (n.source().begin.line == 0) return file + " key '" + key + "' as the command line gave it";
+    if (n.source().begin.line == 0) return file + " key '" + key + "' (a value not read from the file: given on the command line, or made by rockdem)";
     return file + ":" + std::to_string(n.source().begin.line) + " key '" + key + "'";
   }
   std::string at_table(const toml::table& t, const std::string& path) const {

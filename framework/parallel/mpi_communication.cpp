@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <cstring>
 #include <limits>
 #include <map>
@@ -675,9 +676,13 @@ void MpiCommunication::collect(Model& m, int root, ContactList* local_contacts, 
         for (int i = B.first_zone; i < B.first_zone + B.n_zone; ++i) in = unpack(fields::kZoneFields, m.zones[static_cast<std::size_t>(i)], true, in);
     }
     const auto nc = take<std::int64_t>(in);
-    if (take<std::int64_t>(in) != static_cast<std::int64_t>(stride))
-      throw std::logic_error("collecting the model state: process " + std::to_string(r) +
-                             " sent joint-law states of another size than this process's " + std::to_string(stride) + " bytes");
+    if (take<std::int64_t>(in) != static_cast<std::int64_t>(stride)) {
+      // Only the receiving processes see it (a collect to process 0 leaves the others going on
+      // to the next exchange): an exception here would leave them waiting, so the run stops.
+      std::fprintf(stderr, "rockdem: internal error: collecting the model state, process %d sent joint-law states of another size than process %d's %zu bytes\n",
+                   r, rank_, stride);
+      MPI_Abort(MPI_COMM_WORLD, 70);
+    }
     for (std::int64_t k = 0; k < nc; ++k) {
       Contact c;
       in = unpack(fields::kContactFields, c, false, in);

@@ -123,9 +123,11 @@ sys.exit(1 if fail else 0)
 PY
 
 # Bad arguments.
-for args in "--np two" "--jobs 0" "--case $tmp/none.toml" "--laws $tmp/none.toml" "--bogus" "--seeds 1,2" "--seeds -3"; do
+for args in "--np two" "--jobs 0" "--case $tmp/none.toml" "--laws $tmp/none.toml" "--bogus" "--seeds 1,2" "--seeds -3" "--seeds 4_4" "--seeds 2_3_2" "--seeds _"; do
   # shellcheck disable=SC2086
-  msg=$(ROCKDEM_BIN=$bin "$src/scripts/drift-compare" $args --out "$tmp/bad" 2>&1)
+  set -- $args
+  [ $# -eq 2 ] && set -- "$1" "${2//_/ }"  # "_" is a space within one argument: "4_4" is --seeds "4 4"
+  msg=$(ROCKDEM_BIN=$bin "$src/scripts/drift-compare" "$@" --out "$tmp/bad" 2>&1)
   rc=$?
   word=${args%% *}
   [ $rc -eq 2 ] && printf '%s' "$msg" | grep -q -- "${word#--}" && ok "drift-compare $args: exit 2, $(printf '%s' "$msg" | head -n 1)" \

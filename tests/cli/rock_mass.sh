@@ -98,6 +98,8 @@ else echo "FAIL --seed 8: blocks.csv not that of seed = 8, or that of seed 7"; f
 if "$bin" run "$base" --seed 7 --write-blocks "$tmp/seed_7" --quiet >/dev/null 2>&1 && cmp -s "$tmp/seed_7/blocks.csv" "$tmp/blocks/blocks.csv"; then
   echo "ok   --seed 7 (the case's own) is the case, its numbered boundary block included"
 else echo "FAIL --seed 7 is not the case itself"; fail=1; fi
+# numbered blocks the command line names are chosen for the realisation it draws
+expect seed_with_own_excavation 0 run "$tmp/by_line.toml" --seed 8 --excavate settle=rm.3 --write-blocks "$tmp/seed8_dug" -- "wrote"
 expect seed_numbered_block 2 run "$base" --seed 8 --out "$tmp/out_seed8" --quiet -- \
   "sample.toml:78 key 'boundary.block'" "names block 'rm.0' by its number" "--seed 8" "select by location"
 for v in -1 x 1.5 99999999999999999999; do
@@ -119,7 +121,7 @@ expect excavate_no_stage 2 run "$base" --excavate setle=drift --out "$tmp/out_ex
 expect excavate_empty_name 2 run "$base" --excavate settle=drift,,rm.1 --out "$tmp/out_ex" --quiet -- "an empty name in the list"
 expect excavate_twice 2 run "$base" --excavate settle=drift --excavate settle= --out "$tmp/out_ex" --quiet -- "stage 'settle' is given twice"
 expect excavate_unknown 2 run "$base" --excavate settle=tunnel --out "$tmp/out_ex" --quiet -- \
-  "as the command line gave it" "excavates 'tunnel', which is neither a block nor a block group"
+  "given on the command line, or made by rockdem" "excavates 'tunnel', which is neither a block nor a block group"
 expect excavate_no_form 2 run "$base" --excavate drift --out "$tmp/out_ex" --quiet -- "write STAGE=NAME,..."
 [ -e "$tmp/out_ex" ] && { echo "FAIL a refused --excavate made an output folder"; fail=1; }
 
