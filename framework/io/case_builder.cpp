@@ -442,6 +442,14 @@ void CaseBuilder::resolve_excavation(const StageInput& s, StageSpec& stage) {
     throw InputError(s.excavate_wheres.front() + ": stage '" + stage.name + "' would excavate every block");
 }
 
+// Whether a condition limited to `stages` (none: every stage) acts in stage k or a later one.
+bool CaseBuilder::acts_from(const std::vector<std::string>& stages, std::size_t k) const {
+  if (stages.empty()) return true;
+  for (std::size_t j = k; j < c_.stages.size(); ++j)
+    if (std::count(stages.begin(), stages.end(), c_.stages[j].name)) return true;
+  return false;
+}
+
 // The stage (by index) that excavates a block, or -1.
 int CaseBuilder::excavated_by(int block) const {
   const BlockId id = c_.model.blocks[block].id;
@@ -482,10 +490,7 @@ void CaseBuilder::finish_stages() {
   for (const auto& nc : named_conditions_) {
     const int k = excavated_by(nc.block);
     if (k < 0) continue;
-    bool later = nc.stages.empty();
-    for (const auto& s : nc.stages)
-      for (std::size_t j = static_cast<std::size_t>(k); j < c_.stages.size(); ++j) later = later || c_.stages[j].name == s;
-    if (later)
+    if (acts_from(nc.stages, static_cast<std::size_t>(k)))
       throw InputError(nc.where + ": the condition acts on block '" + c_.model.blocks[nc.block].name + "', which stage '" +
                        c_.stages[static_cast<std::size_t>(k)].name + "' excavates (stages." +
                        c_.stages[static_cast<std::size_t>(k)].name + ".excavate), but it is active in that stage or "
@@ -504,23 +509,16 @@ void CaseBuilder::finish_stages() {
 void CaseBuilder::check_region_conditions() {
   const Model& m = c_.model;
   for (const RegionCondition& rc : region_conditions_) {
-    std::vector<int> gone;  // of rc.blocks, excavated by the stages so far
     for (std::size_t k = 0; k < c_.stages.size(); ++k) {
       const StageSpec& st = c_.stages[k];
-      std::vector<int> now;
-      for (int b : rc.blocks)
-        if (std::count(st.excavate.begin(), st.excavate.end(), m.blocks[static_cast<std::size_t>(b)].id)) now.push_back(b);
-      if (now.empty()) continue;
-      gone.insert(gone.end(), now.begin(), now.end());
-      // Acting in this stage or a later one?
-      bool acts = rc.stages.empty();
-      for (std::size_t j = k; j < c_.stages.size() && !acts; ++j)
-        acts = std::count(rc.stages.begin(), rc.stages.end(), c_.stages[j].name) > 0;
-      if (!acts) continue;
+      // The blocks stage k excavates, and those still there after it.
       std::vector<std::string> names, kept;
-      for (int b : now) names.push_back(m.blocks[static_cast<std::size_t>(b)].name);
-      for (int b : rc.blocks)
-        if (!std::count(gone.begin(), gone.end(), b)) kept.push_back(m.blocks[static_cast<std::size_t>(b)].name);
+      for (int b : rc.blocks) {
+        const int by = excavated_by(b);
+        if (by == static_cast<int>(k)) names.push_back(m.blocks[static_cast<std::size_t>(b)].name);
+        else if (by < 0 || by > static_cast<int>(k)) kept.push_back(m.blocks[static_cast<std::size_t>(b)].name);
+      }
+      if (names.empty() || !acts_from(rc.stages, k)) continue;
       const std::string what = rc.where + ": stage '" + st.name + "' excavates " + (names.size() == 1 ? "block " : "blocks ") +
                                join_names(names) + ", on which this boundary acts";
       const std::string fix = "; limit the boundary to earlier stages with stages = [...], or do not excavate " +

@@ -87,6 +87,7 @@ class CaseBuilder {
   };
   std::vector<RegionCondition> region_conditions_;
   void check_region_conditions();
+  bool acts_from(const std::vector<std::string>& stages, std::size_t k) const;
   std::set<std::string> edge_joint_names_;  // joint sets and named joints that block edges lie on
   // The quiet and free_field [[boundary]] entries, in the order given: whether a free-field
   // column's top matches the model's top is a question about both, answered once the stages are known.
