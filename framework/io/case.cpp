@@ -66,7 +66,8 @@ void check_seeded_names(const toml::table& root, const CaseReader& r, const std:
                      "' by its number, and --seed " + std::to_string(seed) +
                      " draws another realisation of the joint sets, in which the blocks are numbered afresh ('" + name->get() +
                      "' is " + now + "); name the rock mass's openings or block groups, or select by location (line or box), "
-                     "which do not change with the seed, or run the case with its own seed");
+                     "which do not change with the seed (a stage's list for this realisation: --excavate STAGE=NAME,...; loose blocks: "
+                     "the stage's scale_off), or run the case with its own seed");
   };
   for (const auto* t : r.tables(root, "stages"))
     if (const auto* ex = (*t)["excavate"].as_array()) {

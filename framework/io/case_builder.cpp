@@ -460,6 +460,7 @@ int CaseBuilder::excavated_by(int block) const {
 
 void CaseBuilder::add_stage(const StageInput& s) {
   StageSpec stage = s.stage;
+  if (stage.scale_off > 0.0) scale_off_wheres_[stage.name] = s.scale_off_where;
   resolve_excavation(s, stage);
   resolve_motions(s, stage);
   for (const auto& change : s.joint_changes) {
@@ -629,6 +630,13 @@ void CaseBuilder::drift(const DriftInput& s) {
                        c_.stages[excavated].name + "'); the reference must be that stage or a later one");
     d.reference_stage = k;
   }
+  // Scaling belongs to making the opening: a block that comes loose after the reference state is
+  // a result of the study (fallen_blocks), and taking it out would hide it.
+  for (std::size_t k = d.reference_stage + 1; k < c_.stages.size(); ++k)
+    if (c_.stages[k].scale_off > 0.0)
+      throw InputError(scale_off_wheres_.at(c_.stages[k].name) + ": stage '" + c_.stages[k].name + "' comes after the drift's reference stage ('" +
+                       c_.stages[d.reference_stage].name + "'); blocks that come loose then are counted as fallen, not scaled off "
+                       "(scale_off belongs to the excavation stages, up to the reference)");
   d.enabled = true;
   d.opening = s.opening;
   d.outline.clear();
@@ -642,7 +650,21 @@ void CaseBuilder::drift(const DriftInput& s) {
 
 void CaseBuilder::output(const OutputSpec& s) { c_.output = s; }
 
-Case CaseBuilder::finish() { return std::move(c_); }
+Case CaseBuilder::finish() {
+  std::set<int> held;
+  for (const NamedCondition& n : named_conditions_) held.insert(n.block);
+  for (const RegionCondition& rc : region_conditions_) held.insert(rc.blocks.begin(), rc.blocks.end());
+  for (const HistorySpec& h : c_.histories)
+    if (h.target.block >= 0) held.insert(h.target.block);
+  const DirectShearSpec& ds = c_.direct_shear;
+  for (int b : {ds.loader, ds.top, ds.bottom})
+    if (b >= 0) held.insert(b);
+  held.insert(ds.other_loaders.begin(), ds.other_loaders.end());
+  c_.held_blocks.clear();
+  for (int b : held) c_.held_blocks.push_back(c_.model.blocks[static_cast<std::size_t>(b)].id);
+  std::sort(c_.held_blocks.begin(), c_.held_blocks.end());
+  return std::move(c_);
+}
 
 Case build_case(const CaseSpec& spec) {
   CaseBuilder b(spec.file, spec.title);

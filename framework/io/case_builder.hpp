@@ -70,6 +70,7 @@ class CaseBuilder {
   std::map<std::string, int> groups_;     // block group -> index
   std::vector<JointSpec> joints_;         // index = joint model; kept for stage changes
   std::set<std::string> stage_names_;
+  std::map<std::string, std::string> scale_off_wheres_;  // stage name -> where its scale_off was written
   // Conditions that name a block (not a region): a stage that excavates it must come after them.
   struct NamedCondition {
     int block;

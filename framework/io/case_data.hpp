@@ -39,6 +39,12 @@ struct StageSpec {
   // which the forces they exerted are released (0: at once).
   std::vector<BlockId> excavate;
   long relax_steps = 0;
+  // >0 (`equilibrium` stages): scaling, as after a blast. A block that has moved further than this
+  // [m] from where the stage found it (the mean of its gridpoints) is taken out of the model while
+  // the stage runs, unless a boundary condition, a history or [direct_shear] names or holds it
+  // (Case::held_blocks): a loose block in a drift's crown would otherwise keep the stage from its
+  // equilibrium, and which blocks come loose depends on the realisation, not on names.
+  double scale_off = 0.0;
   // Mass scaling in this stage: the stable time step masses are scaled to (0: real masses);
   // none: the case's [time] mass_scaling_dt.
   std::optional<double> mass_scaling_dt;
@@ -122,6 +128,9 @@ struct Case {
   DriftSpec drift;
   OutputSpec output;
   std::vector<std::string> block_names;
+  // Blocks a [[boundary]] entry names or acts on, a [[histories]] entry names, or [direct_shear]
+  // names (ids, sorted): a stage's scale_off never takes them out.
+  std::vector<BlockId> held_blocks;
   // The case as it was read (TOML; --joint files in a table `--joint`), kept in checkpoints: a
   // restart compares it with its own (case_comparison.hpp).
   std::string source_toml;

@@ -716,7 +716,7 @@ StageInput CaseReader::stage(const toml::table& t) const {
   const std::string path = "stages." + s.name;
   r.check_keys(t, path, {"name", "damping", "local_damping", "damping_ratio", "damping_frequency", "rayleigh_terms", "until", "duration",
                          "steps", "ratio", "block_ratio", "max_steps", "at_max_steps", "joints", "excavate", "relax_steps",
-                         "mass_scaling_dt", "mass_scaling", "motion", "motion_scale", "pga", "pgv"});
+                         "scale_off", "mass_scaling_dt", "mass_scaling", "motion", "motion_scale", "pga", "pgv"});
   if (const auto* jn = t.get("joints")) in.joint_changes = read_joint_changes(r, *jn, path);
   s.damping = read_damping(r, t, path);
   read_until(r, t, path, s);
@@ -731,6 +731,14 @@ StageInput CaseReader::stage(const toml::table& t) const {
   if (t.contains("relax_steps") && in.excavate.empty())
     throw InputError(r.at(*t.get("relax_steps"), path + ".relax_steps") + ": relax_steps releases the forces of "
                      "excavated blocks; the stage excavates none (add excavate = [...])");
+  if (const toml::node* so = t.get("scale_off")) {
+    s.scale_off = r.positive(t, "scale_off", Dimension::length, path);
+    in.scale_off_where = r.at(*so, path + ".scale_off");
+    if (s.until != StageSpec::Until::equilibrium)
+      throw InputError(r.at(*so, path + ".scale_off") + ": scale_off takes out blocks that come loose while a stage seeks its "
+                       "equilibrium; this stage runs until = \"" + r.str(t, "until", path, std::string("duration")) +
+                       "\" (give until = \"equilibrium\", or leave scale_off out)");
+  }
   if (t.contains("mass_scaling_dt") && t.contains("mass_scaling"))
     throw InputError(r.at(*t.get("mass_scaling"), path + ".mass_scaling") + ": give mass_scaling_dt (scaled) or "
                      "mass_scaling = false (real masses), not both");

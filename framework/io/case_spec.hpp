@@ -137,6 +137,7 @@ struct StageInput {
   std::string motion_scaling_where;  // the motion_scale, pga or pgv key ("" when none)
   // Block or group names the stage excavates, with where each was written.
   std::vector<std::string> excavate, excavate_wheres;
+  std::string scale_off_where;  // "" when the stage has no scale_off
 };
 
 // [[histories]]

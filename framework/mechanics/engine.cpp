@@ -217,6 +217,43 @@ OwnerChange Engine::rebalance(double limit) {
   return ch;
 }
 
+void Engine::take_out(const std::function<Renumbering()>& remove) {
+  check_state();
+  // Each block's values come from its owner (summed as a checkpoint takes them).
+  const auto held = saved_stage_state();
+  const std::vector<double> force = block_forces();
+  if (m_.part.decomposed()) comm_.collect(m_, -1);
+  const Renumbering r = remove();
+  if (r.block.empty()) {  // nothing to take out after all: the collected state is left by a detection
+    if (m_.part.decomposed()) refresh_contacts();
+    return;
+  }
+  const std::vector<double>& avg = held.at("engine.damping_averages");
+  const std::size_t nb = m_.blocks.size();
+  smooth_v_.assign(nb, Vec2::Zero());
+  smooth_w_.assign(nb, 0.0);
+  block_contact_force_.assign(nb, Vec2::Zero());
+  for (std::size_t b = 0; b < r.block.size(); ++b) {
+    const int to = r.block[b];
+    if (to < 0) continue;
+    const auto k = static_cast<std::size_t>(to);
+    smooth_v_[k] = Vec2(avg[3 * b], avg[3 * b + 1]);
+    smooth_w_[k] = avg[3 * b + 2];
+    block_contact_force_[k] = Vec2(force[2 * b], force[2 * b + 1]);
+  }
+  // The masses the next detection compares with (a mass that grows keeps its point's momentum).
+  if (inertial_mass_.size() == r.gp.size()) {
+    std::vector<double> mass(m_.gp.size(), 0.0);
+    for (std::size_t g = 0; g < r.gp.size(); ++g)
+      if (r.gp[g] >= 0) mass[static_cast<std::size_t>(r.gp[g])] = inertial_mass_[g];
+    inertial_mass_ = std::move(mass);
+  } else {
+    inertial_mass_.clear();
+  }
+  refresh_contacts();  // a detection like any other: on the model without the blocks
+  last_good_.take(m_);
+}
+
 void Engine::compute_time_step() {
   // Stiffness seen by each gridpoint: zones plus contacts (kn*L on the point and, shared by the
   // projection weights, on the edge's two gridpoints).
@@ -413,7 +450,7 @@ void Engine::contact_forces() {
     if (acting_[i]) add(items[i]);
 }
 
-std::map<std::string, std::vector<double>> Engine::saved_state() const {
+std::vector<double> Engine::block_forces() const {
   std::vector<double> force(2 * m_.blocks.size(), 0.0);
   for (std::size_t b = 0; b < m_.blocks.size() && b < block_contact_force_.size(); ++b)
     if (m_.part.owns(static_cast<int>(b))) {
@@ -422,8 +459,12 @@ std::map<std::string, std::vector<double>> Engine::saved_state() const {
     }
   // One process holds each block's value and the others zero, so the sum is that value exactly.
   if (comm_.size() > 1) comm_.sum_held(force.data(), static_cast<int>(force.size()));
+  return force;
+}
+
+std::map<std::string, std::vector<double>> Engine::saved_state() const {
   std::map<std::string, std::vector<double>> a{
-      {"engine.block_contact_force", std::move(force)},
+      {"engine.block_contact_force", block_forces()},
       {"engine.step_values", {ratio_, block_ratio_, static_cast<double>(worst_block_), max_speed_}}};
   // The energy balance, when something tracks it, goes on from its terms (the whole model's).
   auto items = energy_.saved_items(m_);

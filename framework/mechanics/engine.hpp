@@ -4,6 +4,7 @@
 // zone stresses -> contact forces through the joint laws -> external forces -> damping ->
 // velocities and positions. The same code runs whatever the decomposition (it never sees MPI).
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -119,6 +120,15 @@ class Engine {
   // last good one. A collective call; does nothing in a serial run.
   OwnerChange rebalance(double limit);
 
+  // Blocks taken out while a stage runs (a stage's scale_off), at a contact detection: checks the
+  // state, makes the whole model's state current on every process (decomposed), calls `remove`,
+  // which removes the blocks from the model and renumbers what refers to positions, and carries
+  // the engine's own per-block and per-gridpoint state (damping averages, contact forces on
+  // blocks, masses) to the new positions; then detects contacts again and keeps the result as the
+  // last good state. The energy balance starts its per-item arrays afresh at the next step (the
+  // blocks' kinetic and contact energy leave the model with them). Collective when decomposed.
+  void take_out(const std::function<Renumbering()>& remove);
+
   const ModelSnapshot& last_good() const { return last_good_; }
   ModelSnapshot snapshot() const;
   void restore(const ModelSnapshot& s);
@@ -136,6 +146,8 @@ class Engine {
   void integrate();
   void check_state();
   void sum_energy();  // the energy terms of all processes (decomposed runs)
+  // The contact force on each block (x, y by position), its owner's on every process (collective).
+  std::vector<double> block_forces() const;
   // Runs f; in a decomposed run an error raised by it on any process is raised on every process
   // (with that process's message), so that none waits for the others.
   template <class F>

@@ -35,21 +35,24 @@ std::map<int, Vec2> released_forces(const Model& m, const std::vector<char>& gon
   return out;
 }
 
-}  // namespace
-
-std::size_t excavate(Case& c, const std::vector<std::unique_ptr<BoundaryCondition>>& conditions, const StageSpec& stage,
-                     std::unique_ptr<BoundaryCondition>* relax) {
+// Removes the blocks whose ids are in `ids` and renumbers everything that refers to model
+// positions; with `relax_steps` > 0 and `relax` given, sets it to the condition that releases
+// their contacts' last forces over those steps. The positions removed go to `removed`.
+Renumbering remove_and_renumber(Case& c, const std::vector<std::unique_ptr<BoundaryCondition>>& conditions,
+                                const std::vector<BlockId>& ids, long relax_steps, const std::string& stage,
+                                std::unique_ptr<BoundaryCondition>* relax, std::size_t& removed) {
   Model& m = c.model;
   std::vector<int> positions;
   std::vector<char> gone(m.blocks.size(), 0);
   for (std::size_t b = 0; b < m.blocks.size(); ++b)
-    if (std::count(stage.excavate.begin(), stage.excavate.end(), m.blocks[b].id)) {
+    if (std::count(ids.begin(), ids.end(), m.blocks[b].id)) {
       positions.push_back(static_cast<int>(b));
       gone[b] = 1;
     }
-  if (positions.empty()) return 0;
-  const std::map<int, Vec2> released = relax && stage.relax_steps > 0 ? released_forces(m, gone) : std::map<int, Vec2>{};
-  const Renumbering r = remove_blocks(m, positions);
+  removed = positions.size();
+  if (positions.empty()) return {};
+  const std::map<int, Vec2> released = relax && relax_steps > 0 ? released_forces(m, gone) : std::map<int, Vec2>{};
+  Renumbering r = remove_blocks(m, positions);
   for (const auto& bc : conditions)
     if (!bc->renumber(r)) bc->removed = true;
   for (auto& h : c.histories) {
@@ -69,10 +72,25 @@ std::size_t excavate(Case& c, const std::vector<std::unique_ptr<BoundaryConditio
   if (!released.empty()) {
     std::vector<std::pair<int, Vec2>> forces;
     for (const auto& [g, f] : released) forces.emplace_back(r.gp[static_cast<std::size_t>(g)], f);
-    *relax = std::make_unique<RelaxCondition>(std::move(forces), stage.relax_steps);
-    (*relax)->stages = {stage.name};
+    *relax = std::make_unique<RelaxCondition>(std::move(forces), relax_steps);
+    (*relax)->stages = {stage};
   }
-  return positions.size();
+  return r;
+}
+
+}  // namespace
+
+std::size_t excavate(Case& c, const std::vector<std::unique_ptr<BoundaryCondition>>& conditions, const StageSpec& stage,
+                     std::unique_ptr<BoundaryCondition>* relax) {
+  std::size_t removed = 0;
+  remove_and_renumber(c, conditions, stage.excavate, stage.relax_steps, stage.name, relax, removed);
+  return removed;
+}
+
+Renumbering take_out_blocks(Case& c, const std::vector<std::unique_ptr<BoundaryCondition>>& conditions,
+                            const std::vector<BlockId>& ids) {
+  std::size_t removed = 0;
+  return remove_and_renumber(c, conditions, ids, 0, "", nullptr, removed);
 }
 
 }  // namespace rockdem

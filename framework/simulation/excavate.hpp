@@ -15,4 +15,10 @@ namespace rockdem {
 std::size_t excavate(Case& c, const std::vector<std::unique_ptr<BoundaryCondition>>& conditions, const StageSpec& stage,
                      std::unique_ptr<BoundaryCondition>* relax = nullptr);
 
+// Takes the blocks with these ids out of the model with the same renumbering as an excavation,
+// releasing no forces (a stage's scale_off: loose blocks that fell away); returns the renumbering
+// (empty maps when no block had one of the ids).
+Renumbering take_out_blocks(Case& c, const std::vector<std::unique_ptr<BoundaryCondition>>& conditions,
+                            const std::vector<BlockId>& ids);
+
 }  // namespace rockdem

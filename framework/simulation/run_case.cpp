@@ -12,6 +12,7 @@
 #include <iomanip>
 #include <iostream>
 #include <optional>
+#include <set>
 #include <sstream>
 
 #include <unistd.h>
@@ -21,6 +22,8 @@
 #include "framework/core/interrupt.hpp"
 #include "framework/io/case_comparison.hpp"
 #include "framework/io/checkpoint.hpp"
+#include "framework/io/output_folder.hpp"
+#include "framework/geometry/polygon.hpp"
 #include "framework/io/vtk_output.hpp"
 #include "framework/mechanics/engine.hpp"
 #include "framework/mechanics/in_situ.hpp"
@@ -44,12 +47,78 @@ std::string human_seconds(double s) {
   return os.str();
 }
 
+// A block a stage's scale_off took out: the stage (index), the step, how far it had moved from
+// where the stage found it [m] and its area [m2] then.
+struct ScaledOff {
+  std::size_t stage = 0;
+  BlockId id{};
+  std::string name;
+  long step = 0;
+  double moved = 0.0, area = 0.0;
+};
+
+// Checkpoints carry them as rows of (stage, block id, step, moved, area).
+constexpr std::size_t kScaledOffColumns = 5;
+
+std::vector<double> scaled_off_array(const std::vector<ScaledOff>& list) {
+  std::vector<double> a;
+  for (const ScaledOff& s : list)
+    a.insert(a.end(), {static_cast<double>(s.stage), static_cast<double>(id_value(s.id)), static_cast<double>(s.step), s.moved, s.area});
+  return a;
+}
+
+// The blocks a checkpoint says were scaled off, named from the case's model (which still has them).
+std::vector<ScaledOff> scaled_off_from(const CheckpointArrays& a, const Case& c, const std::string& file) {
+  std::vector<ScaledOff> out;
+  const auto it = a.find("run.scaled_off");
+  if (it == a.end()) return out;
+  const std::vector<double>& v = it->second;
+  if (v.size() % kScaledOffColumns != 0) throw InputError(file + ": its list of scaled-off blocks is damaged");
+  for (std::size_t i = 0; i < v.size(); i += kScaledOffColumns) {
+    ScaledOff s;
+    if (!(v[i] >= 0.0 && v[i] < static_cast<double>(c.stages.size()) && v[i + 1] >= 0.0 && v[i + 1] < 2147483647.0))
+      throw InputError(file + ": its list of scaled-off blocks is damaged (row " + std::to_string(i / kScaledOffColumns + 1) + ")");
+    s.stage = static_cast<std::size_t>(v[i]);
+    s.id = static_cast<BlockId>(static_cast<std::int32_t>(v[i + 1]));
+    s.step = static_cast<long>(v[i + 2]);
+    s.moved = v[i + 3];
+    s.area = v[i + 4];
+    const auto b = std::find_if(c.model.blocks.begin(), c.model.blocks.end(), [&](const Block& x) { return x.id == s.id; });
+    if (b == c.model.blocks.end())
+      throw InputError(file + ": it says block id " + std::to_string(id_value(s.id)) + " was scaled off, and this case has no such block");
+    s.name = b->name;
+    out.push_back(std::move(s));
+  }
+  return out;
+}
+
+// A block's position for scaling: the mean of its gridpoints (a rigid block's centre if it has none).
+Vec2 block_mean(const Model& m, std::size_t b) {
+  const Block& B = m.blocks[b];
+  if (B.n_gp == 0) return B.xc;
+  Vec2 sum = Vec2::Zero();
+  for (int i = 0; i < B.n_gp; ++i) sum += m.gp[static_cast<std::size_t>(B.first_gp + i)].x;
+  return sum / static_cast<double>(B.n_gp);
+}
+
 // A stage checkpoint written after an excavation holds fewer blocks than the case's model: the
 // excavations of the completed stages are made again, one stage at a time, until the checkpoint
 // fits (a restore that does not fit leaves the model untouched), and they must be exactly those
 // of the stages the checkpoint completed.
-CheckpointScalars read_after_excavations(Case& c, const std::string& restart) {
-  std::size_t done = 0;  // stages up to here have had their excavation made again
+CheckpointScalars read_after_excavations(Case& c, const std::string& restart, std::vector<ScaledOff>& scaled) {
+  scaled = scaled_off_from(read_checkpoint_arrays(restart), c, restart);
+  // The removals in the order the run made them: each stage's excavation at its start, then the
+  // blocks its scale_off took out while it ran.
+  struct Removal {
+    std::size_t stage;
+    bool scaling;
+  };
+  std::vector<Removal> removals;
+  for (std::size_t k = 0; k < c.stages.size(); ++k) {
+    if (!c.stages[k].excavate.empty()) removals.push_back({k, false});
+    if (std::any_of(scaled.begin(), scaled.end(), [&](const ScaledOff& s) { return s.stage == k; })) removals.push_back({k, true});
+  }
+  std::size_t made = 0;  // removals made again so far
   std::string first_error;
   CheckpointScalars extra;
   for (;;) {
@@ -58,19 +127,27 @@ CheckpointScalars read_after_excavations(Case& c, const std::string& restart) {
       break;
     } catch (const InputError& e) {
       if (first_error.empty()) first_error = e.what();
-      while (done < c.stages.size() && c.stages[done].excavate.empty()) ++done;
-      if (done == c.stages.size()) throw InputError(first_error);
-      excavate(c, c.conditions, c.stages[done]);
-      ++done;
+      if (made == removals.size()) throw InputError(first_error);
+      const Removal& rm = removals[made++];
+      if (rm.scaling) {
+        std::vector<BlockId> ids;
+        for (const ScaledOff& s : scaled)
+          if (s.stage == rm.stage) ids.push_back(s.id);
+        take_out_blocks(c, c.conditions, ids);
+      } else {
+        excavate(c, c.conditions, c.stages[rm.stage]);
+      }
     }
   }
   const auto it = extra.find("stages_completed");
   // Written within a stage: that stage's excavation has been made too.
   const double completed = (it == extra.end() ? 0.0 : it->second) + (extra.count("within_stage") ? 1.0 : 0.0);
-  for (std::size_t k = 0; k < c.stages.size(); ++k)
-    if (!c.stages[k].excavate.empty() && (k < done) != (static_cast<double>(k) < completed))
+  for (std::size_t i = 0; i < removals.size(); ++i) {
+    const std::size_t k = removals[i].stage;
+    if (removals[i].scaling ? i >= made : (i < made) != (static_cast<double>(k) < completed))
       throw InputError(restart + ": the checkpoint's blocks do not follow this case's excavations (stage '" +
                        c.stages[k].name + "'); restart from a stage checkpoint of this case");
+  }
   return extra;
 }
 
@@ -143,10 +220,10 @@ struct StageResume {
 
 // The stage a run begins with: the first, or after a restart the one following the stages its
 // checkpoint completed, or the one it was written within (the model state is read back from it).
-std::size_t read_restart(Case& c, const std::string& restart, std::optional<StageResume>& resume) {
+std::size_t read_restart(Case& c, const std::string& restart, std::optional<StageResume>& resume, std::vector<ScaledOff>& scaled) {
   if (restart.empty()) return 0;
   const std::size_t first_stage = check_restart(c, restart, false);  // rockdem run has warned already
-  const CheckpointScalars extra = read_after_excavations(c, restart);
+  const CheckpointScalars extra = read_after_excavations(c, restart, scaled);
   if (extra.count("within_stage")) {
     const auto get = [&](const char* k) {
       const auto it = extra.find(k);
@@ -282,6 +359,11 @@ struct Run {
   Clock::time_point last_checkpoint_wall = Clock::now();
   std::vector<fs::path> checkpoints;  // written by this run, oldest first
   bool owners_due = false;  // a check of the blocks' owners waits for the next contact detection
+  // Scaling (a stage's scale_off): where each block was when the stage under way began (by id),
+  // and the blocks taken out so far in the run, in order.
+  std::map<BlockId, Vec2> scale_from{};
+  std::vector<ScaledOff> scaled_off{};
+  std::set<BlockId> kept_loose{};  // held blocks past the stage's scale_off, warned of
   bool root() const { return comm.root(); }
 };
 
@@ -400,6 +482,7 @@ void write_restartable(Run& r, const fs::path& path, std::size_t completed, bool
     arrays.merge(engine_state);
     arrays.merge(r.rec.saved_state());
     if (r.drift) arrays.merge(r.drift->saved_state());
+    if (!r.scaled_off.empty()) arrays["run.scaled_off"] = scaled_off_array(r.scaled_off);
     CheckpointScalars scalars{{"stages_completed", static_cast<double>(completed)}};
     if (within) {
       scalars.insert({{"within_stage", 1.0},
@@ -408,6 +491,10 @@ void write_restartable(Run& r, const fs::path& path, std::size_t completed, bool
                       {"stage_vtk_every", static_cast<double>(within->vtk_every)}});
       if (interrupted) scalars["interrupted"] = 1.0;
       if (r.relax) arrays["stage.relax"] = r.relax->progress();
+      if (!r.scale_from.empty()) {
+        auto& from = arrays["stage.scale_from"];
+        for (const auto& [id, x] : r.scale_from) from.insert(from.end(), {static_cast<double>(id_value(id)), x.x(), x.y()});
+      }
     }
     write_checkpoint(r.c.model, path.string(), scalars, arrays, {{"case_toml", r.c.source_toml}});
   });
@@ -487,6 +574,94 @@ void check_owners(Run& r) {
   std::cout << os.str() << "\n";
 }
 
+// The positions a stage's scale_off measures from: each block's when the stage begins (the whole
+// model's state is current on every process then), or, resumed within the stage, those the
+// checkpoint kept.
+void start_scaling(Run& r, std::size_t index, const CheckpointArrays* saved, const std::string& restart) {
+  r.scale_from.clear();
+  r.kept_loose.clear();
+  if (!(r.c.stages[index].scale_off > 0.0)) return;
+  const Model& m = r.c.model;
+  if (!saved) {
+    for (std::size_t b = 0; b < m.blocks.size(); ++b) r.scale_from[m.blocks[b].id] = block_mean(m, b);
+    return;
+  }
+  const auto it = saved->find("stage.scale_from");
+  if (it == saved->end() || it->second.size() % 3 != 0)
+    throw InputError(restart + ": it holds no positions for stage '" + r.c.stages[index].name + "''s scale_off, or they are damaged");
+  const std::vector<double>& v = it->second;
+  for (std::size_t i = 0; i + 2 < v.size(); i += 3)
+    r.scale_from[static_cast<BlockId>(static_cast<std::int32_t>(v[i]))] = Vec2(v[i + 1], v[i + 2]);
+}
+
+// <out>/scaled_off.csv: every block a scale_off took out so far (a case with scale_off only).
+void write_scaled_off(const Run& r) {
+  if (!r.root() || std::none_of(r.c.stages.begin(), r.c.stages.end(), [](const StageSpec& s) { return s.scale_off > 0.0; })) return;
+  std::ostringstream os;
+  os << "# rockdem: blocks taken out by a stage's scale_off (moved further than it from where the stage found them)\n"
+     << "stage,stage_name,step,block,block_id,moved_m,area_m2\n";
+  os.precision(9);
+  for (const ScaledOff& s : r.scaled_off)
+    os << s.stage + 1 << "," << r.c.stages[s.stage].name << "," << s.step << "," << s.name << "," << s.id << "," << s.moved << "," << s.area << "\n";
+  write_file_atomically(r.out / "scaled_off.csv", os.str());
+}
+
+// Steps between two looks for loose blocks in a stage with scale_off.
+constexpr long kScaleCheckSteps = 100;
+
+// A stage's scale_off, after a chunk of steps: the blocks that have moved further than it from
+// where the stage found them, but those the case holds (Case::held_blocks), are taken out, and
+// said on screen. Each block's distance comes from its owner.
+void scale_off(Run& r, std::size_t index) {
+  const double limit = r.c.stages[index].scale_off;
+  Model& m = r.c.model;
+  // The distance of each block beyond the limit, negative for a block the case holds.
+  std::vector<double> moved(m.blocks.size(), 0.0);
+  for (std::size_t b = 0; b < m.blocks.size(); ++b) {
+    const BlockId id = m.blocks[b].id;
+    if (!m.part.owns(static_cast<int>(b))) continue;
+    const auto from = r.scale_from.find(id);
+    if (from == r.scale_from.end()) continue;
+    const double x = (block_mean(m, b) - from->second).norm();
+    if (x > limit) moved[b] = std::binary_search(r.c.held_blocks.begin(), r.c.held_blocks.end(), id) ? -x : x;
+  }
+  if (m.part.decomposed()) r.comm.sum_held(moved.data(), static_cast<int>(moved.size()));
+  std::vector<BlockId> ids;
+  for (std::size_t b = 0; b < m.blocks.size(); ++b) {
+    if (moved[b] > 0.0) ids.push_back(m.blocks[b].id);
+    // A loose block the case holds stays, and may keep the stage from its equilibrium: said once.
+    if (moved[b] < 0.0 && r.kept_loose.insert(m.blocks[b].id).second && r.root()) {
+      r.progress.end_line();
+      std::cerr << "rockdem: warning: block '" << m.blocks[b].name << "' has moved " << -moved[b] << " m in stage '"
+                << r.c.stages[index].name << "', more than its scale_off, and is not taken out: a [[boundary]], [[histories]] "
+                << "or [direct_shear] entry names it or acts on it\n";
+    }
+  }
+  if (ids.empty()) return;
+  const std::size_t first = r.scaled_off.size();
+  r.engine.take_out([&] {
+    for (std::size_t b = 0; b < m.blocks.size(); ++b)
+      if (moved[b] > 0.0) {
+        Polygon p;
+        for (int g : m.blocks[b].boundary) p.push_back(m.gp[static_cast<std::size_t>(g)].x);
+        r.scaled_off.push_back({index, m.blocks[b].id, m.blocks[b].name, m.step, moved[b], std::abs(signed_area(p))});
+      }
+    return take_out_blocks(r.c, r.engine.conditions(), ids);
+  });
+  for (BlockId id : ids) r.scale_from.erase(id);
+  // The blocks' work left with them: the owners are checked at the next detection.
+  r.owners_due = m.part.decomposed();
+  if (!r.root() || r.progress.quiet()) return;
+  r.progress.end_line();
+  std::ostringstream os;
+  os.precision(3);
+  os << "step " << m.step << ": scaled off " << ids.size() << (ids.size() == 1 ? " block" : " blocks") << " that moved more than "
+     << limit << " m in stage '" << r.c.stages[index].name << "':";
+  for (std::size_t k = first; k < r.scaled_off.size(); ++k)
+    os << (k > first ? "," : "") << " " << r.scaled_off[k].name << " (" << r.scaled_off[k].moved << " m, " << r.scaled_off[k].area << " m2)";
+  std::cout << os.str() << "\n";
+}
+
 // `resume`: the stage is taken up from a checkpoint written within it (`restart`): its
 // excavation was made before, its relax, clock and the conditions' state come from the file.
 void run_stage(Run& r, const StageJointModels& joints, std::size_t index, const StageResume* resume = nullptr,
@@ -515,6 +690,7 @@ void run_stage(Run& r, const StageJointModels& joints, std::size_t index, const 
     restore_condition_states(r.engine, restart);
     r.engine.resume_stage(saved, restart);
   }
+  start_scaling(r, index, resume ? &saved : nullptr, restart);
   write_stage_motions(r, index);
   if (resume) r.rec.stage_resumed(static_cast<int>(index) + 1);
   else r.rec.stage_started(static_cast<int>(index) + 1, stage.spec().name);
@@ -561,6 +737,7 @@ void run_stage(Run& r, const StageJointModels& joints, std::size_t index, const 
     r.engine.run_steps(left);
     into = 0;
     n += chunk;
+    if (r.c.stages[index].scale_off > 0.0 && n % kScaleCheckSteps < chunk) scale_off(r, index);
     if (n % r.c.output.history_interval < chunk) r.rec.sample();
     if (n % vtk_every < chunk) write_vtk(r);
     // The history on disk keeps up with what the user has been shown, and, quiet or not, is never
@@ -583,6 +760,7 @@ void run_stage(Run& r, const StageJointModels& joints, std::size_t index, const 
   }
   r.rec.sample();
   write_vtk(r);
+  write_scaled_off(r);
   write_stage_checkpoint(r, index);
 }
 
@@ -644,7 +822,8 @@ RunResult run_case(Case& c, const fs::path& out, bool quiet, const std::string& 
   if (comm.root()) fs::create_directories(out);
   quiet = quiet || !comm.root();
   std::optional<StageResume> resume;
-  const std::size_t first_stage = read_restart(c, restart, resume);
+  std::vector<ScaledOff> scaled;
+  const std::size_t first_stage = read_restart(c, restart, resume, scaled);
   const StageJointModels joints(c);
   if (first_stage < c.stages.size()) joints.put_in_force(c, first_stage);
   Engine engine(c.model, c.settings, comm);
@@ -670,6 +849,7 @@ RunResult run_case(Case& c, const fs::path& out, bool quiet, const std::string& 
   }
   progress.run_started(out);
   Run r{c, out, engine, rec, vtk, progress, comm, drift ? &*drift : nullptr, nullptr, false, 0, 0, c.model.step, Clock::now(), {}};
+  r.scaled_off = std::move(scaled);
   // A restart reads the state the field started; a new run starts from the field.
   if (restart.empty() && c.in_situ) {
     const InSituReport rep = initialise_in_situ(c.model, *c.in_situ, c.settings.detection);

@@ -22,8 +22,9 @@ variant() {  # variant NAME SED-EXPRESSION: a copy of the study with one change
   cmp -s "$tmp/study.toml" "$tmp/$1.toml" && { echo "FAIL variant $1 changed nothing"; fail=1; }
 }
 variant pgv '0,/^pgv = "0.5 m\/s"/s//pgv = "50 m\/s"/'
+line=$(grep -n -m1 '^pgv = "50 m/s"' "$tmp/pgv.toml" | cut -d: -f1)  # the message names the key's own line
 expect "PGV 50 m/s" 2 run "$tmp/pgv.toml" --out "$tmp/o1" -- \
-  "pgv.toml:181 key 'stages.event_1.pgv'" "PGV 50 m/s (more than 5 m/s)" "beyond any recorded earthquake" "Check the unit"
+  "pgv.toml:$line key 'stages.event_1.pgv'" "PGV 50 m/s (more than 5 m/s)" "beyond any recorded earthquake" "Check the unit"
 variant scale '0,/^pgv = "0.5 m\/s"/s//motion_scale = 100/'
 expect "motion_scale 100" 2 run "$tmp/scale.toml" --out "$tmp/o2" -- \
   "key 'stages.event_1.motion_scale'" "PGA 34.9" "scaled by 100"

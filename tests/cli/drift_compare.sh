@@ -133,4 +133,11 @@ for args in "--np two" "--jobs 0" "--case $tmp/none.toml" "--laws $tmp/none.toml
   [ $rc -eq 2 ] && printf '%s' "$msg" | grep -q -- "${word#--}" && ok "drift-compare $args: exit 2, $(printf '%s' "$msg" | head -n 1)" \
     || bad "drift-compare $args: exit $rc: $msg"
 done
+# A case refused under a seed stops the comparison before any run: cases/drift/small.toml names
+# its overbreak by seed 2026's block numbers.
+msg=$(ROCKDEM_BIN=$bin "$src/scripts/drift-compare" --seeds "2026 2" --out "$tmp/pre" 2>&1)
+rc=$?
+[ $rc -eq 2 ] && grep -q "the case cannot run with --seed 2; nothing was run" <<<"$msg" && grep -q "names block 'rm.38' by its number" <<<"$msg" &&
+  [ ! -e "$tmp/pre/seed2026" ] && [ ! -e "$tmp/pre/seed2" ] && ok "drift-compare --seeds \"2026 2\" on small.toml: refused before any run ($(grep -m1 'names block' <<<"$msg" | cut -c1-120)...)" \
+  || bad "drift-compare --seeds \"2026 2\" on small.toml: exit $rc: $msg"
 exit $fail
