@@ -6,9 +6,11 @@ the spread of slip near the drift, permeability and the loosened zone (docs/drif
     /usr/bin/python3 scripts/drift_ensemble.py OUT VARIANT [VARIANT ...] -- SEED [SEED ...]
 
 Reads OUT/seed<SEED>/summary.csv and each run's manifest (OUT/seed<SEED>/<VARIANT>/manifest.json),
-as scripts/plot_drift_compare.py wrote them for each seed. Writes OUT/ensemble.csv (one row per
-model and stage), OUT/realisations.csv (every run's rows with its seed), OUT/figures/ensemble_*.png
-and OUT/index.html. Exit 1 when no realisation has results.
+as scripts/plot_drift_compare.py wrote them for each seed, and the blocks each run's scale_off took
+out (OUT/seed<SEED>/<VARIANT>/scaled_off.csv). Writes OUT/ensemble.csv (one row per model and
+stage), OUT/realisations.csv (every run's rows with its seed), OUT/scaled_off.csv (every block
+scaled off, with its seed and model), OUT/figures/ensemble_*.png and OUT/index.html. Exit 1 when
+no realisation has results.
 """
 import csv
 import html
@@ -58,6 +60,15 @@ def status_of(run, log):
     return st, why
 
 
+def scaled_off(run):
+    """The blocks a run's scale_off took out (rows of its scaled_off.csv); None when it wrote none."""
+    try:
+        with open(os.path.join(run, "scaled_off.csv")) as f:
+            return list(csv.DictReader(line for line in f if not line.startswith("#")))
+    except OSError:
+        return None
+
+
 def spread(values, scale):
     v = sorted(x * scale for x in values if not math.isnan(x))
     if not v:
@@ -89,6 +100,14 @@ def main():
                         rows[r["variant"]][s].append(r)
         except OSError:
             pass
+    scaled = {(v, s): scaled_off(os.path.join(out, f"seed{s}", v)) for v in variants for s in seeds}
+    with open(os.path.join(out, "scaled_off.csv"), "w", newline="") as f:
+        w = csv.writer(f, lineterminator="\n")
+        w.writerow(["seed", "variant", "stage_name", "step", "block", "moved_m", "area_m2"])
+        for s in seeds:
+            for v in variants:
+                for r in scaled[(v, s)] or []:
+                    w.writerow([s, v, r["stage_name"], r["step"], r["block"], r["moved_m"], r["area_m2"]])
     if not any(rows[v][s] for v in variants for s in seeds):
         print(f"drift_ensemble: no realisation in {out} has results (seed<N>/summary.csv)", file=sys.stderr)
         return 1
@@ -189,8 +208,28 @@ def main():
                     + "".join(f"<td>{e(x)}</td>" for x in t[6:]) + "</tr>")
     page.append("</table>")
     page.append("<p><img src='figures/ensemble_falls.png'></p><p><img src='figures/ensemble_slip.png'></p>")
+    if any(x is not None for x in scaled.values()):
+        # What each realisation lost before the reference state (a stage's scale_off): the drift's
+        # overbreak, which the results are measured after.
+        page.append("<h2>Blocks scaled off (overbreak)</h2><p>Taken out by a stage's <code>scale_off</code> "
+                    "before the reference state; the results above are measured after it.</p>"
+                    "<table><tr><th>seed</th>" + "".join(f"<th>{e(label(v))}</th>" for v in variants) + "</tr>")
+        for s in seeds:
+            cells = []
+            for v in variants:
+                r = scaled[(v, s)]
+                if r is None:
+                    cells.append("<td>(no record)</td>")
+                elif not r:
+                    cells.append("<td>none</td>")
+                else:
+                    area = sum(number(x["area_m2"]) for x in r)
+                    cells.append(f"<td>{e(', '.join(x['block'] for x in r))} ({area:.3g} m²)</td>")
+            page.append(f"<tr><td>{e(s)}</td>" + "".join(cells) + "</tr>")
+        page.append("</table>")
     page.append("<p>Files: <a href='ensemble.csv'>ensemble.csv</a> (this table), "
-                "<a href='realisations.csv'>realisations.csv</a> (every run's rows, with its seed).</p>")
+                "<a href='realisations.csv'>realisations.csv</a> (every run's rows, with its seed), "
+                "<a href='scaled_off.csv'>scaled_off.csv</a> (every block scaled off, with its seed and model).</p>")
     with open(os.path.join(out, "index.html"), "w") as f:
         f.write("\n".join(page))
     print(f"drift_ensemble: {os.path.join(out, 'index.html')}: {len(variants)} models x {len(seeds)} realisations")

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 
 namespace rockdem {
 
@@ -162,6 +163,10 @@ void EnergyBalance::after_step(const Model& m, const EnergyMasses& masses, doubl
 
 namespace {
 
+// The per-item arrays a checkpoint carries (saved_items).
+constexpr const char* kItemArrays[] = {"energy.r_prev", "energy.f_bc_prev", "energy.f_zone_prev", "energy.rb_prev", "energy.sig_prev",
+                                       "energy.eps_prev"};
+
 template <int N, class V>
 void put_owned(std::vector<double>& out, std::size_t i, const V& v) {
   for (int d = 0; d < N; ++d) out[N * i + static_cast<std::size_t>(d)] = v[d];
@@ -219,6 +224,21 @@ bool EnergyBalance::restore(const Model& m, const std::map<std::string, std::vec
   const auto* ep = get("energy.eps_prev", 3 * nz);
   const auto* fz = get("energy.f_zone_prev", 2 * ng);
   const auto* dt = get("energy.dt_prev", 1);
+  // Written right after blocks were removed (an excavation, a stage's scale_off), before a step
+  // had made the per-item arrays again: only the terms travel, and the next step starts the arrays
+  // afresh (after_step's `resized`), as it did in the run that wrote them.
+  const bool none = std::none_of(std::begin(kItemArrays), std::end(kItemArrays), [&](const char* k) { return a.count(k) != 0; });
+  if (dt && none) {
+    for (auto* v : {&r_prev_, &f_bc_prev_, &f_zone_prev_}) v->clear();
+    rb_prev_.clear();
+    sig_prev_.clear();
+    eps_prev_.clear();
+    dt_prev_ = (*dt)[0];
+    t_ = terms;
+    scale_ = scale;
+    on_ = started_ = true;
+    return true;
+  }
   if (!r || !fb || !rb || !sg || !ep || !dt) return false;
   dt_prev_ = (*dt)[0];
   take<2>(r_prev_, *r);

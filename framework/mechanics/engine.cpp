@@ -241,6 +241,10 @@ void Engine::take_out(const std::function<Renumbering()>& remove) {
     smooth_w_[k] = avg[3 * b + 2];
     block_contact_force_[k] = Vec2(force[2 * b], force[2 * b + 1]);
   }
+  // The block the last step found least in balance, by its new position (the removed one: none).
+  worst_block_ = worst_block_ >= 0 && static_cast<std::size_t>(worst_block_) < r.block.size() && r.block[static_cast<std::size_t>(worst_block_)] >= 0
+                     ? r.block[static_cast<std::size_t>(worst_block_)]
+                     : 0;
   // The masses the next detection compares with (a mass that grows keeps its point's momentum).
   if (inertial_mass_.size() == r.gp.size()) {
     std::vector<double> mass(m_.gp.size(), 0.0);

@@ -111,12 +111,16 @@ CheckpointScalars read_after_excavations(Case& c, const std::string& restart, st
   // blocks its scale_off took out while it ran.
   struct Removal {
     std::size_t stage;
+    std::vector<BlockId> ids;
     bool scaling;
   };
   std::vector<Removal> removals;
   for (std::size_t k = 0; k < c.stages.size(); ++k) {
-    if (!c.stages[k].excavate.empty()) removals.push_back({k, false});
-    if (std::any_of(scaled.begin(), scaled.end(), [&](const ScaledOff& s) { return s.stage == k; })) removals.push_back({k, true});
+    if (!c.stages[k].excavate.empty()) removals.push_back({k, c.stages[k].excavate, false});
+    std::vector<BlockId> ids;
+    for (const ScaledOff& s : scaled)
+      if (s.stage == k) ids.push_back(s.id);
+    if (!ids.empty()) removals.push_back({k, std::move(ids), true});
   }
   std::size_t made = 0;  // removals made again so far
   std::string first_error;
@@ -129,19 +133,20 @@ CheckpointScalars read_after_excavations(Case& c, const std::string& restart, st
       if (first_error.empty()) first_error = e.what();
       if (made == removals.size()) throw InputError(first_error);
       const Removal& rm = removals[made++];
-      if (rm.scaling) {
-        std::vector<BlockId> ids;
-        for (const ScaledOff& s : scaled)
-          if (s.stage == rm.stage) ids.push_back(s.id);
-        take_out_blocks(c, c.conditions, ids);
-      } else {
-        excavate(c, c.conditions, c.stages[rm.stage]);
-      }
+      if (rm.scaling) take_out_blocks(c, c.conditions, rm.ids);
+      else excavate(c, c.conditions, c.stages[rm.stage]);
     }
   }
   const auto it = extra.find("stages_completed");
   // Written within a stage: that stage's excavation has been made too.
   const double completed = (it == extra.end() ? 0.0 : it->second) + (extra.count("within_stage") ? 1.0 : 0.0);
+  // Removals of the stages run that take out nothing (an excavation of blocks an earlier
+  // scale_off took out) were made by the run as much as by this replay.
+  const auto present = [&](const std::vector<BlockId>& ids) {
+    return std::any_of(c.model.blocks.begin(), c.model.blocks.end(),
+                       [&](const Block& b) { return std::find(ids.begin(), ids.end(), b.id) != ids.end(); });
+  };
+  while (made < removals.size() && static_cast<double>(removals[made].stage) < completed && !present(removals[made].ids)) ++made;
   for (std::size_t i = 0; i < removals.size(); ++i) {
     const std::size_t k = removals[i].stage;
     if (removals[i].scaling ? i >= made : (i < made) != (static_cast<double>(k) < completed))
@@ -364,6 +369,7 @@ struct Run {
   std::map<BlockId, Vec2> scale_from{};
   std::vector<ScaledOff> scaled_off{};
   std::set<BlockId> kept_loose{};  // held blocks past the stage's scale_off, warned of
+  long scaled_at = -1;  // the stage's step count at its last removal: its end is not asked then
   bool root() const { return comm.root(); }
 };
 
@@ -580,6 +586,7 @@ void check_owners(Run& r) {
 void start_scaling(Run& r, std::size_t index, const CheckpointArrays* saved, const std::string& restart) {
   r.scale_from.clear();
   r.kept_loose.clear();
+  r.scaled_at = -1;
   if (!(r.c.stages[index].scale_off > 0.0)) return;
   const Model& m = r.c.model;
   if (!saved) {
@@ -590,8 +597,11 @@ void start_scaling(Run& r, std::size_t index, const CheckpointArrays* saved, con
   if (it == saved->end() || it->second.size() % 3 != 0)
     throw InputError(restart + ": it holds no positions for stage '" + r.c.stages[index].name + "''s scale_off, or they are damaged");
   const std::vector<double>& v = it->second;
-  for (std::size_t i = 0; i + 2 < v.size(); i += 3)
+  for (std::size_t i = 0; i + 2 < v.size(); i += 3) {
+    if (!(v[i] >= 0.0 && v[i] < 2147483647.0))
+      throw InputError(restart + ": the positions it holds for stage '" + r.c.stages[index].name + "''s scale_off are damaged");
     r.scale_from[static_cast<BlockId>(static_cast<std::int32_t>(v[i]))] = Vec2(v[i + 1], v[i + 2]);
+  }
 }
 
 // <out>/scaled_off.csv: every block a scale_off took out so far (a case with scale_off only).
@@ -611,8 +621,8 @@ constexpr long kScaleCheckSteps = 100;
 
 // A stage's scale_off, after a chunk of steps: the blocks that have moved further than it from
 // where the stage found them, but those the case holds (Case::held_blocks), are taken out, and
-// said on screen. Each block's distance comes from its owner.
-void scale_off(Run& r, std::size_t index) {
+// said on screen and in scaled_off.csv; true if any was. Each block's distance comes from its owner.
+bool scale_off(Run& r, std::size_t index) {
   const double limit = r.c.stages[index].scale_off;
   Model& m = r.c.model;
   // The distance of each block beyond the limit, negative for a block the case holds.
@@ -637,7 +647,7 @@ void scale_off(Run& r, std::size_t index) {
                 << "or [direct_shear] entry names it or acts on it\n";
     }
   }
-  if (ids.empty()) return;
+  if (ids.empty()) return false;
   const std::size_t first = r.scaled_off.size();
   r.engine.take_out([&] {
     for (std::size_t b = 0; b < m.blocks.size(); ++b)
@@ -651,7 +661,8 @@ void scale_off(Run& r, std::size_t index) {
   for (BlockId id : ids) r.scale_from.erase(id);
   // The blocks' work left with them: the owners are checked at the next detection.
   r.owners_due = m.part.decomposed();
-  if (!r.root() || r.progress.quiet()) return;
+  write_scaled_off(r);  // now: a run that stops later keeps the record
+  if (!r.root() || r.progress.quiet()) return true;
   r.progress.end_line();
   std::ostringstream os;
   os.precision(3);
@@ -660,6 +671,7 @@ void scale_off(Run& r, std::size_t index) {
   for (std::size_t k = first; k < r.scaled_off.size(); ++k)
     os << (k > first ? "," : "") << " " << r.scaled_off[k].name << " (" << r.scaled_off[k].moved << " m, " << r.scaled_off[k].area << " m2)";
   std::cout << os.str() << "\n";
+  return true;
 }
 
 // `resume`: the stage is taken up from a checkpoint written within it (`restart`): its
@@ -712,7 +724,8 @@ void run_stage(Run& r, const StageJointModels& joints, std::size_t index, const 
   long into = resume ? resume->into_chunk : 0;
   // A resumed chunk is run to its end before the stage's end condition is asked again, as the
   // uninterrupted run did.
-  for (bool resumed = resume != nullptr; resumed || !stage.done(n); resumed = false) {
+  // Nor is it asked right after blocks were taken out: the last step's ratios are from before.
+  for (bool resumed = resume != nullptr; resumed || n == r.scaled_at || !stage.done(n); resumed = false) {
     long left = chunk - into;
     // A checkpoint or a signal waits for a contact detection (the next is at most [time]
     // refresh_interval steps away), so that a run restarted from it repeats this one exactly.
@@ -737,7 +750,7 @@ void run_stage(Run& r, const StageJointModels& joints, std::size_t index, const 
     r.engine.run_steps(left);
     into = 0;
     n += chunk;
-    if (r.c.stages[index].scale_off > 0.0 && n % kScaleCheckSteps < chunk) scale_off(r, index);
+    if (r.c.stages[index].scale_off > 0.0 && n % kScaleCheckSteps < chunk && scale_off(r, index)) r.scaled_at = n;
     if (n % r.c.output.history_interval < chunk) r.rec.sample();
     if (n % vtk_every < chunk) write_vtk(r);
     // The history on disk keeps up with what the user has been shown, and, quiet or not, is never

@@ -119,8 +119,28 @@ per_model = [[last[(s, v)] for s in seeds if (s, v) in last] for v in models]
 check(all(len(p) < 2 or len(set(p)) == len(p) for p in per_model) and sum(len(p) for p in per_model) >= 2,
       "each model's realisations differ (largest slip near the opening after 'settle': " +
       "; ".join(f"{v}: " + ", ".join(f"{1e3 * x:.2f} mm" for x in p) for v, p in zip(models, per_model)) + ")")
+# This case has no scale_off: the ensemble's list of scaled-off blocks is its header alone, and
+# the page has no such section.
+scaled = list(csv.reader(open(os.path.join(out, "scaled_off.csv"))))
+page = open(os.path.join(out, "index.html")).read()
+check(scaled == [["seed", "variant", "stage_name", "step", "block", "moved_m", "area_m2"]] and "Blocks scaled off" not in page,
+      "no scale_off: scaled_off.csv has its header alone, the page no overbreak section")
 sys.exit(1 if fail else 0)
 PY
+# With runs that scaled blocks off (their scaled_off.csv written in as rockdem writes it, on a
+# copy of the ensemble): the page lists them per seed and model, and the ensemble's file has them.
+cp -r "$tmp/e" "$tmp/e2"
+printf '# rockdem: blocks taken out\nstage,stage_name,step,block,block_id,moved_m,area_m2\n2,excavate,1200,rm.5,5,0.104,0.25\n2,excavate,1300,rm.7,7,0.101,0.05\n' \
+  > "$tmp/e2/seed12/mohr_coulomb/scaled_off.csv"
+printf '# rockdem: blocks taken out\nstage,stage_name,step,block,block_id,moved_m,area_m2\n' > "$tmp/e2/seed12/continuously_yielding/scaled_off.csv"
+rm -f "$tmp/e2/index.html"
+/usr/bin/python3 "$src/scripts/drift_ensemble.py" "$tmp/e2" mohr_coulomb continuously_yielding -- 11 12 13 >"$tmp/e2.log" 2>&1
+if [ -f "$tmp/e2/index.html" ]; then
+  if grep -q "<td>rm.5, rm.7 (0.3 m²)</td><td>none</td>" "$tmp/e2/index.html" && grep -q "<td>(no record)</td>" "$tmp/e2/index.html" &&
+     [ "$(grep -c '^12,mohr_coulomb,excavate,1[23]00,rm.[57],' "$tmp/e2/scaled_off.csv")" -eq 2 ]; then
+    ok "the ensemble lists the blocks each run scaled off (seed 12: rm.5, rm.7, 0.3 m² with Mohr-Coulomb; none with CY; no record elsewhere)"
+  else bad "the ensemble's scaled-off blocks: $(grep -o '<h2>Blocks scaled off.*' "$tmp/e2/index.html" | head -c 600)"; fi
+else bad "drift_ensemble.py on the copy wrote no page: $(cat "$tmp/e2.log")"; fi
 
 # Bad arguments.
 for args in "--np two" "--jobs 0" "--case $tmp/none.toml" "--laws $tmp/none.toml" "--bogus" "--seeds 1,2" "--seeds -3" "--seeds 4_4" "--seeds 2_3_2" "--seeds _"; do

@@ -4,7 +4,9 @@
 # then reaches its equilibrium (without scale_off it does not, exit 3); scaled_off.csv names it;
 # a block a history names is kept, with a warning. The run repeats itself exactly on 2 and 3
 # processes and from restarts: the first stage's checkpoint, checkpoints within the stage before
-# and after the block was taken out (2 processes), and a stage added after it. Bad values refused.
+# and after the block was taken out (2 processes), the checkpoint at the removal's own detection
+# (energy tracked), and a stage added after it; a run stopped after a removal keeps its record.
+# Identical means every dataset equal, the sums over processes to 1e-12 relative. Bad values refused.
 # Usage: bash scale_off.sh <rockdem-binary> <source-dir>
 set -u
 bin=$1
@@ -73,8 +75,15 @@ printf '\n[[histories]]\nname = "key_dy"\nquantity = "face_displacement"\nblock 
 "$bin" run "$tmp/held.toml" --out "$tmp/held" --quiet >"$tmp/held.log" 2>&1
 code=$?
 if [ $code -eq 3 ] && [ "$(grep -c "block 'key' has moved .* and is not taken out" "$tmp/held.log")" -eq 1 ] &&
-   ! grep -q "^2,excavate" "$tmp/held/scaled_off.csv"; then echo "ok   a block a history names is kept, with one warning"
+   [ -f "$tmp/held/scaled_off.csv" ] && ! grep -q "^2,excavate" "$tmp/held/scaled_off.csv"; then echo "ok   a block a history names is kept, with one warning"
 else echo "FAIL held block: exit $code"; cat "$tmp/held.log"; fail=1; fi
+
+# A run stopped after a removal keeps its record: the stage cut at max_steps 100 steps after it.
+sed 's/^max_steps = 40000/max_steps = 14700/' "$case" > "$tmp/cut.toml"
+"$bin" run "$tmp/cut.toml" --out "$tmp/cut" --quiet >"$tmp/cut.log" 2>&1
+code=$?
+if [ $code -eq 3 ] && grep -q "^2,excavate,16620,key," "$tmp/cut/scaled_off.csv"; then echo "ok   a run stopped after the removal (exit 3) keeps scaled_off.csv"
+else echo "FAIL a run stopped after the removal: exit $code, $(cat "$tmp/cut/scaled_off.csv" 2>&1)"; fail=1; fi
 
 # 2. On 2 and 3 processes: the serial run's results.
 for np in 2 3; do
@@ -94,14 +103,51 @@ for k in stage_1_settle checkpoint_step_16520 checkpoint_step_17020; do
   else echo "FAIL restart from $k: ${r:-}"; tail -5 "$tmp/r_$k.log"; fail=1; fi
   r=
 done
+# extended NAME STAGES CHECKPOINT WHAT: the case with STAGES (TOML text) added, run whole and
+# restarted from its CHECKPOINT: the same results.
+extended() {
+  cp "$case" "$tmp/$1.toml"
+  printf '%b' "$2" >> "$tmp/$1.toml"
+  "$bin" run "$tmp/$1.toml" --out "$tmp/$1" --quiet >/dev/null 2>&1
+  cp -r "$tmp/$1" "$tmp/$1_r"
+  if "$bin" run "$tmp/$1.toml" --out "$tmp/$1_r" --restart "$tmp/$1_r/$3.h5" --quiet >"$tmp/$1_r.log" 2>&1 &&
+     r=$(same "$tmp/$1" "$tmp/$1_r"); then echo "ok   $4: $r"
+  else echo "FAIL $4: ${r:-}"; tail -3 "$tmp/$1_r.log"; fail=1; fi
+  r=
+}
 # A stage added after the scaling: from the stage checkpoint (the key taken out again on the way).
-cp "$case" "$tmp/more.toml"
-printf '\n[[stages]]\nname = "rest"\nuntil = "steps"\nsteps = 200\n' >> "$tmp/more.toml"
-"$bin" run "$tmp/more.toml" --out "$tmp/more" --quiet >/dev/null 2>&1
-cp -r "$tmp/s" "$tmp/more_r"
-if "$bin" run "$tmp/more.toml" --out "$tmp/more_r" --restart "$tmp/more_r/stage_2_excavate.h5" --quiet >"$tmp/more_r.log" 2>&1 &&
-   r=$(same "$tmp/more" "$tmp/more_r"); then echo "ok   a stage added after the scaling, from the stage checkpoint: $r"
-else echo "FAIL a stage added after the scaling: ${r:-}"; tail -5 "$tmp/more_r.log"; fail=1; fi
+extended more '\n[[stages]]\nname = "rest"\nuntil = "steps"\nsteps = 200\n' stage_2_excavate \
+  "a stage added after the scaling, from the stage checkpoint"
+# A later stage that excavates the block scale_off took out (it takes out nothing then): a restart
+# after that stage makes the removals again and accepts that the excavation removed nothing.
+extended dig '\n[[stages]]\nname = "dig"\nexcavate = ["key"]\nuntil = "steps"\nsteps = 100\n\n[[stages]]\nname = "rest"\nuntil = "steps"\nsteps = 100\n' \
+  stage_3_dig "an excavation of the block already scaled off, restarted after it"
+
+# A checkpoint written at the detection the removal makes, with the energy balance tracked (an
+# energy history): the balance's per-item arrays are made again only by the next step, so the
+# checkpoint carries its terms alone; a restart from it goes on as the run did. The stage is cut
+# 40 steps after the removal (at 14,600 of its steps) so that the kept checkpoints include it.
+"$py" - "$case" "$tmp/en.toml" <<'PY'
+import sys
+s = open(sys.argv[1]).read()
+t = s.replace("max_steps = 40000", 'max_steps = 14640\nat_max_steps = "continue"')
+assert t != s
+t += '\n[[histories]]\nname = "energy_kinetic"\nquantity = "energy"\ncomponent = "kinetic"\n\n[output]\ncheckpoint_keep = 5\n'
+open(sys.argv[2], "w").write(t)
+PY
+if "$bin" run "$tmp/en.toml" --out "$tmp/en" --quiet --checkpoint-every "10 steps" >"$tmp/en.log" 2>&1 && [ -f "$tmp/en/checkpoint_step_16620.h5" ] &&
+   "$py" -c "
+import sys, h5py
+k = sorted(x for x in h5py.File(sys.argv[1], 'r')['arrays'].keys() if x.startswith('energy'))
+sys.exit(0 if k == ['energy.dt_prev', 'energy.scale', 'energy.terms'] else 1)" "$tmp/en/checkpoint_step_16620.h5"; then
+  cp -r "$tmp/en" "$tmp/en_r"
+  if "$bin" run "$tmp/en.toml" --out "$tmp/en_r" --restart "$tmp/en_r/checkpoint_step_16620.h5" --quiet >"$tmp/en_r.log" 2>&1 &&
+     r=$(same "$tmp/en" "$tmp/en_r"); then echo "ok   restart from the checkpoint at the removal's detection (energy terms alone): $r"
+  else echo "FAIL restart from the checkpoint at the removal: ${r:-}"; tail -3 "$tmp/en_r.log"; fail=1; fi
+else
+  echo "FAIL no checkpoint at the removal's detection with the energy terms alone: $(ls "$tmp/en" | tr '\n' ' ')"; tail -3 "$tmp/en.log"; fail=1
+fi
+r=
 
 # 4. Bad values and places.
 . "$src/tests/cli/lib/expect.sh"
