@@ -14,6 +14,7 @@
 #include "framework/geometry/polygon.hpp"
 #include "framework/io/output_folder.hpp"
 #include "framework/io/vtk_output.hpp"
+#include "framework/model/block_outline.hpp"
 
 namespace rockdem {
 
@@ -49,13 +50,6 @@ Vec2 ray_exit(const std::vector<Vec2>& poly, const Vec2& c, const Vec2& dir) {
     if (s >= -1e-12 && s <= 1 + 1e-12 && t > best) best = t;
   }
   return c + best * dir;
-}
-
-Polygon block_polygon(const Model& m, const Block& b) {
-  Polygon p;
-  p.reserve(b.boundary.size());
-  for (int g : b.boundary) p.push_back(m.gp[static_cast<std::size_t>(g)].x);
-  return p;
 }
 
 // Hydraulic aperture of a joint from its normal displacement (opening positive): the aperture at
@@ -126,7 +120,7 @@ void DriftResults::take_reference(const Model& m) {
   ref_ = Reference{};
   for (const Contact& c : m.contacts.items) ref_.contacts[c.key] = {c.response.u_s, c.response.u_n};
   for (const Block& b : m.blocks) {
-    ref_.centroids[b.id] = polygon_centroid(block_polygon(m, b));
+    ref_.centroids[b.id] = polygon_centroid(block_outline(m, b));
     for (int i = b.first_gp; i < b.first_gp + b.n_gp; ++i) {
       const GridPoint& g = m.gp[static_cast<std::size_t>(i)];
       if (distance_to_wall(g.x) <= c_.drift.near) continue;
@@ -265,7 +259,7 @@ void DriftResults::stage_ended(const Model& m, std::size_t index, double ratio) 
   std::vector<Vec2> centroid(m.blocks.size());
   std::vector<double> area(m.blocks.size());
   for (std::size_t i = 0; i < m.blocks.size(); ++i) {
-    const Polygon p = block_polygon(m, m.blocks[i]);
+    const Polygon p = block_outline(m, m.blocks[i]);
     centroid[i] = back(polygon_centroid(p));
     area[i] = std::abs(signed_area(p));
   }

@@ -24,6 +24,7 @@
 #include "framework/io/checkpoint.hpp"
 #include "framework/io/output_folder.hpp"
 #include "framework/geometry/polygon.hpp"
+#include "framework/model/block_outline.hpp"
 #include "framework/io/vtk_output.hpp"
 #include "framework/mechanics/engine.hpp"
 #include "framework/mechanics/in_situ.hpp"
@@ -132,9 +133,8 @@ CheckpointScalars read_after_excavations(Case& c, const std::string& restart, st
     } catch (const InputError& e) {
       if (first_error.empty()) first_error = e.what();
       if (made == removals.size()) throw InputError(first_error);
-      const Removal& rm = removals[made++];
-      if (rm.scaling) take_out_blocks(c, c.conditions, rm.ids);
-      else excavate(c, c.conditions, c.stages[rm.stage]);
+      // Made again without a gradual release (the checkpoint holds what is left of one).
+      take_out_blocks(c, c.conditions, removals[made++].ids);
     }
   }
   const auto it = extra.find("stages_completed");
@@ -651,11 +651,8 @@ bool scale_off(Run& r, std::size_t index) {
   const std::size_t first = r.scaled_off.size();
   r.engine.take_out([&] {
     for (std::size_t b = 0; b < m.blocks.size(); ++b)
-      if (moved[b] > 0.0) {
-        Polygon p;
-        for (int g : m.blocks[b].boundary) p.push_back(m.gp[static_cast<std::size_t>(g)].x);
-        r.scaled_off.push_back({index, m.blocks[b].id, m.blocks[b].name, m.step, moved[b], std::abs(signed_area(p))});
-      }
+      if (moved[b] > 0.0)
+        r.scaled_off.push_back({index, m.blocks[b].id, m.blocks[b].name, m.step, moved[b], std::abs(signed_area(block_outline(m, m.blocks[b])))});
     return take_out_blocks(r.c, r.engine.conditions(), ids);
   });
   for (BlockId id : ids) r.scale_from.erase(id);
