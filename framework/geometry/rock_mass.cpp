@@ -593,6 +593,32 @@ EdgeTag Cutter::tag(Halfedge e) const {
   return best;
 }
 
+// Blocks no joint cuts (an opening, or a block whose outline has no joint or bridge on it: a far
+// field, whether an unjointed region or rock the joint sets' regions leave out) keep only their
+// true corners. Where joint traces end on such a block's outline the arrangement leaves a vertex
+// at each end, and there the block's boundary point lies exactly on the corners of the two
+// jointed blocks the trace separates: three coincident points, where contacts chattered and the
+// drift study's static stages stalled (docs/drift-study.md). Without those vertices the jointed
+// blocks' corners meet a flat face, and the block's own boundary points (the mesher's, zone_size
+// apart) meet the jointed blocks' faces. A vertex goes only where its two edges are exactly
+// collinear, run on in the same direction and carry the same label, so the outline, the area
+// and the labels stay as they were.
+void drop_flat_vertices(std::vector<Point>& pts, std::vector<EdgeTag>& edges) {
+  bool dropped = true;
+  while (dropped && pts.size() > 3) {  // dropping a vertex can make its neighbour flat
+    dropped = false;
+    for (std::size_t i = 0; pts.size() > 3 && i < pts.size(); ++i) {
+      const std::size_t n = pts.size(), ip = (i + n - 1) % n, in = (i + 1) % n;
+      if (edges[ip] == edges[i] && CGAL::collinear(pts[ip], pts[i], pts[in]) &&
+          CGAL::collinear_are_strictly_ordered_along_line(pts[ip], pts[i], pts[in])) {
+        pts.erase(pts.begin() + static_cast<std::ptrdiff_t>(i));
+        edges.erase(edges.begin() + static_cast<std::ptrdiff_t>(i));  // edge ip now runs on to pts[in]
+        dropped = true;
+      }
+    }
+  }
+}
+
 RockMass Cutter::output() const {
   RockMass rm;
   rm.holes_split = holes_split_;
@@ -611,6 +637,11 @@ RockMass Cutter::output() const {
       l.pts.push_back(h->source()->point());
       l.block.edges.push_back(tag(h));
     } while (++h != c);
+    const FaceInfo fi = info(f);
+    const bool uncut = std::none_of(l.block.edges.begin(), l.block.edges.end(), [](const EdgeTag& t) {
+      return t.kind == EdgeKind::joint || t.kind == EdgeKind::bridge;
+    });
+    if (fi.opening >= 0 || uncut) drop_flat_vertices(l.pts, l.block.edges);
     // Start at the lowest (x, then y) vertex so that the order does not depend on CGAL's.
     const auto first = std::min_element(l.pts.begin(), l.pts.end(),
                                         [](const Point& a, const Point& b) { return CGAL::compare_xy(a, b) == CGAL::SMALLER; });
@@ -618,7 +649,6 @@ RockMass Cutter::output() const {
     std::rotate(l.pts.begin(), first, l.pts.end());
     std::rotate(l.block.edges.begin(), l.block.edges.begin() + shift, l.block.edges.end());
     for (const Point& p : l.pts) l.block.polygon.push_back(approx(p));
-    const FaceInfo fi = info(f);
     l.block.region = fi.region;
     l.block.opening = fi.opening;
     loops.push_back(std::move(l));

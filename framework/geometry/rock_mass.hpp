@@ -105,7 +105,10 @@ struct EdgeTag {
 };
 
 struct RockMassBlock {
-  Polygon polygon;             // counter-clockwise, starting at its lowest-x (then lowest-y) vertex
+  // Counter-clockwise, starting at its lowest-x (then lowest-y) vertex. A block no joint cuts (an
+  // opening; a block with no joint or bridge edge, such as a far field) has no vertex where
+  // traces end on it, only its own corners (docs/rock-mass-generator.md).
+  Polygon polygon;
   std::vector<EdgeTag> edges;  // edge i runs from polygon[i] to polygon[i + 1]
   int region = -1;             // index in RockMassInput::regions, -1 the default region
   int opening = -1;            // index in RockMassInput::openings, -1 if rock

@@ -140,7 +140,10 @@ TEST(RockMass, AreasSumToTheDomainAndNoBlocksOverlap) {
   }
   const double overlap = total_overlap_area(polys);
   std::cout << "total pairwise overlap " << overlap << " m2\n";
-  EXPECT_LT(overlap, 1e-20);
+  // A trace's end on the opening's slanted side is a vertex of the jointed blocks but not of the
+  // opening (it keeps its own corners only), and in double it lies up to half an ulp off that
+  // side: slivers of about 1e-16 m times the edge length (measured 5.4e-17 m2 in all here).
+  EXPECT_LT(overlap, 1e-14);
 }
 
 TEST(RockMass, ConcaveDomainAndConcaveBlocksSumExactly) {
@@ -233,8 +236,8 @@ TEST(RockMass, OpeningIsOneBlockOfTheCirclesArea) {
     ++openings;
     const double n = 24, r = 1.0;
     EXPECT_NEAR(signed_area(b.polygon), 0.5 * n * r * r * std::sin(2 * std::numbers::pi / n), 1e-12);
-    // Joints end on the outline (extra vertices on its sides) but none enters it.
-    EXPECT_GE(b.polygon.size(), 24u);
+    // Joints end on the outline but none enters it (and it keeps only its own corners: below).
+    EXPECT_EQ(b.polygon.size(), 24u);
     for (const auto& v : b.polygon) EXPECT_NEAR((v - in.openings[0].centre).norm(), 1.0, 1.0 - std::cos(std::numbers::pi / n) + 1e-12);
     for (const auto& t : b.edges) EXPECT_EQ(t.kind, EdgeKind::cut);
   }
@@ -250,6 +253,43 @@ TEST(RockMass, FarFieldRegionIsOneUnjointedBlock) {
       EXPECT_NEAR(signed_area(b.polygon), 15.0, 1e-12 * 15.0);
     }
   EXPECT_EQ(far, 1);
+}
+
+// Joint traces end on the far field's outline and on the opening's, but neither block gets a
+// vertex there (the three coincident points such a vertex makes are where contacts chattered):
+// the far field keeps its four corners and the opening its 24 (OpeningIsOneBlockOfTheCirclesArea),
+// while the jointed blocks have their corners on their faces. Labels and areas are as before
+// (check_shared_labels, FarFieldRegionIsOneUnjointedBlock).
+TEST(RockMass, UncutBlocksKeepOnlyTheirCornersWhereTracesEnd) {
+  const RockMass rm = generate_rock_mass(jointed_square());
+  const RockMassBlock* far = nullptr;
+  for (const auto& b : rm.blocks)
+    if (b.region == 0) far = &b;
+  ASSERT_NE(far, nullptr);
+  const Polygon want = {{0, 8.5}, {10, 8.5}, {10, 10}, {0, 10}};
+  EXPECT_EQ(far->polygon, want);
+  ASSERT_EQ(far->edges.size(), 4u);
+  EXPECT_EQ(far->edges[0].kind, EdgeKind::cut);  // the region's outline towards the jointed rock
+  EXPECT_EQ(far->edges[1].kind, EdgeKind::domain);
+  int ends_on_face = 0;  // near-field corners strictly inside the far field's lower face
+  for (const auto& b : rm.blocks)
+    if (b.region != 0)
+      for (const Vec2& v : b.polygon) ends_on_face += v.y() == 8.5 && v.x() > 1e-9 && v.x() < 10.0 - 1e-9;
+  EXPECT_GE(ends_on_face, 8) << "the steep set's traces should end on the far field's face";
+  int on_opening = 0;  // jointed blocks' corners on the opening's outline but not at its corners
+  const Polygon circle = opening_polygon(jointed_square().openings[0]);
+  for (const auto& b : rm.blocks)
+    if (b.opening < 0)
+      for (const Vec2& v : b.polygon) {
+        bool on_edge = false, at_corner = false;
+        for (std::size_t k = 0; k < circle.size(); ++k) {
+          on_edge = on_edge || distance_to_segment(v, circle[k], circle[(k + 1) % circle.size()]) < 1e-12;
+          at_corner = at_corner || (v - circle[k]).norm() < 1e-12;
+        }
+        on_opening += on_edge && !at_corner;
+      }
+  EXPECT_GE(on_opening, 4) << "joint traces should end on the opening's outline";
+  check_shared_labels(rm, 1e-9);
 }
 
 TEST(RockMass, EveryInternalEdgeIsLabelledAlikeFromBothSides) {
@@ -295,6 +335,14 @@ TEST(RockMass, RegionLimitsItsSet) {
       EXPECT_LE(std::max(seg.a.x(), seg.b.x()), 5.0 + 1e-12);
     }
   EXPECT_EQ(rm.blocks.size(), 12u);  // 10 joints make 11 strips on the left, the right half whole
+  // The right half, which no joint cuts, has no vertex where the joints end on it (x = 5).
+  int whole = 0;
+  for (const auto& b : rm.blocks)
+    if (b.polygon[0] == Vec2(5, 0)) {
+      ++whole;
+      EXPECT_EQ(b.polygon, rectangle(5, 0, 5, 10));
+    }
+  EXPECT_EQ(whole, 1);
 }
 
 TEST(RockMass, DegenerateInputIsAnInputErrorNamingTheItem) {
