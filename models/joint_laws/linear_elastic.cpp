@@ -1,11 +1,14 @@
-// linear_elastic: a joint with no strength. Closed, sigma_n = -kn u_n and tau = ks u_s (offsets
-// from the unloaded position); it opens without resistance where -kn u_n would be tensile, and
-// closes again at the same place with the shear stress of its total offset. The stresses are a
-// function of the offsets alone, whatever the path: nothing slips, dilates or is dissipated.
-// Not a model of a rock joint: it is the reference against which the other laws' accumulation is
-// judged on paths that stay closed. Once a contact opens and closes it is not conservative: the
-// offset grows while it is open and the whole shear stress comes back on closing, energy no work
-// put in; a shaken drift with it gains energy and blows up (docs/theory/joint_laws.md).
+// linear_elastic: a joint with no strength. Closed, sigma_n = -kn u_n (u_n the offset from the
+// unloaded position) and tau = ks times the shear offset since the joint last closed; open (where
+// -kn u_n would be tensile) both are zero. While it stays closed the stresses are a function of
+// the offsets alone and nothing is dissipated: the reference against which the other laws'
+// accumulation is judged. Opening releases the shear: a joint with no normal stress carries no
+// shear (Coulomb's bound with any friction), and on closing again the surfaces meet where they
+// are, so the shear starts from zero there. The shear energy stored when it opens, tau^2 / 2 ks,
+// is reported as dissipated. Until 2026-11-30 it closed with the shear stress of its total
+// offset, an energy no work had put in: contacts hovering at sigma_n = 0 switched shear forces of
+// MN/m on and off, a shaken drift gained energy until it blew up, and a static one never settled
+// (docs/theory/joint_laws.md).
 // Why no tension: a joint glued in tension keeps pulling on a corner that the block has carried
 // past the end of the edge it was glued to; in cases/drift/small.toml's first earthquake that
 // pulled a corner 0.25 m out at 5 GPa and the run went unstable. Effects may be composed with it
@@ -28,11 +31,14 @@ void LinearElastic::update(const Params& p, State& s, const JointKinematics& k, 
   s.u_s += k.du_s;
   s.u_n += k.du_n;
   s.elastic_normal -= p.kn * k.du_n;
-  s.elastic_shear += p.ks * k.du_s;
   const bool open = s.elastic_normal <= 0.0;
   const double tau_before = s.tau;
+  // Open: the shear is released (its stored energy dissipated) and starts again from zero where
+  // the joint closes.
+  const double released = open ? s.elastic_shear * s.elastic_shear / (2.0 * p.ks) : 0.0;
+  s.elastic_shear = open ? 0.0 : s.elastic_shear + p.ks * k.du_s;
   s.sigma_n = open ? 0.0 : s.elastic_normal;
-  s.tau = open ? 0.0 : s.elastic_shear;
+  s.tau = s.elastic_shear;
   // The chain is told of the increment like any law's (effects see a joint that never slips).
   ShearContext ctx;
   ctx.sigma_n = s.sigma_n;
@@ -49,11 +55,12 @@ void LinearElastic::update(const Params& p, State& s, const JointKinematics& k, 
   r.ks = p.ks;
   law_support::report(s, r);
   r.open = open;
+  r.dissipated = released;
 }
 
 }  // namespace rockdem
 
 ROCKDEM_REGISTER_JOINT_LAW(rockdem::LinearElastic,
-                           "linear elastic joint with no strength (never slips; opens freely, no tension); "
-                           "the reference for what the other laws accumulate",
+                           "linear elastic joint with no strength (never slips while closed; opens freely, no tension, "
+                           "and opening releases its shear); the reference for what the other laws accumulate",
                            "Goodman, Taylor & Brekke (1968), the joint element's elastic stiffnesses")

@@ -13,9 +13,9 @@ struct LinearElastic {
   };
   struct State {
     double elastic_normal;  // kn x closure from the unloaded position [Pa]: negative while open
-    double elastic_shear;   // ks x shear offset from the unloaded position [Pa]
+    double elastic_shear;   // ks x shear offset since the joint last closed [Pa]; 0 while open
     double sigma_n;         // [Pa] compression positive: max(0, elastic_normal)
-    double tau;             // [Pa] elastic_shear while closed, 0 while open
+    double tau;             // [Pa] elastic_shear
     double u_s;             // shear offset from the initial position [m]
     double u_n;             // normal displacement, opening positive [m]
     double dilation;        // always 0 (the report structure of every law)
