@@ -42,13 +42,16 @@ double EnergyBalance::contact_energy(const Model& m, double* slip_increment) {
   double e = 0.0, slip = 0.0;
   for (const Contact& c : m.contacts.items) {
     // A decomposed run counts each contact on the process owning its point (partition.hpp).
-    if (c.response.open || c.pretouch_gap > 0.0 || !m.part.owns(m.gp[static_cast<std::size_t>(c.point)].block)) continue;
+    if (c.pretouch_gap > 0.0 || !m.part.owns(m.gp[static_cast<std::size_t>(c.point)].block)) continue;
+    // What a law dissipated counts even in the update that opened the joint (linear_elastic
+    // releases its stored shear then); an open joint holds no energy.
+    slip += c.length * c.response.dissipated;
+    if (c.response.open) continue;
     const JointModel& law = *m.contacts.models[static_cast<std::size_t>(c.joint)];
     const double kn = c.response.kn > 0.0 ? c.response.kn : law.initial_kn();
     const double ks = c.response.ks > 0.0 ? c.response.ks : law.initial_ks();
     const double sn = c.response.sigma_n, tau = c.response.tau;
     e += c.length * ((kn > 0.0 ? sn * sn / (2.0 * kn) : 0.0) + (ks > 0.0 ? tau * tau / (2.0 * ks) : 0.0));
-    slip += c.length * c.response.dissipated;
   }
   if (slip_increment) *slip_increment = slip;
   return e;
