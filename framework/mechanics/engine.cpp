@@ -815,6 +815,33 @@ void Engine::run_steps(long n, bool check_at_end) {
   if (check_at_end) check_state();
 }
 
+std::string Engine::fastest_gridpoint() const {
+  // Each process's fastest owned gridpoint (speed, position, block position), then the fastest of
+  // all (ties to the lower block position, so that the answer does not depend on the processes).
+  double mine[4] = {-1.0, 0.0, 0.0, -1.0};
+  for_owned_gridpoints(m_, [&](int i) {
+    const GridPoint& g = m_.gp[static_cast<std::size_t>(i)];
+    const double v = g.v.norm();
+    if (v > mine[0] || (v == mine[0] && g.block < mine[3])) {
+      mine[0] = v;
+      mine[1] = g.x.x();
+      mine[2] = g.x.y();
+      mine[3] = g.block;
+    }
+  });
+  std::vector<double> all;
+  comm_.gather_all(mine, 4, all);
+  std::size_t best = 0;
+  for (std::size_t r = 4; r < all.size(); r += 4)
+    if (all[r] > all[best] || (all[r] == all[best] && all[r + 3] < all[best + 3])) best = r;
+  if (all[best + 3] < 0.0) return "no gridpoint";
+  std::ostringstream os;
+  os.precision(3);
+  os << "block '" << m_.blocks[static_cast<std::size_t>(all[best + 3])].name << "' near (" << std::fixed << all[best + 1] << ", "
+     << all[best + 2] << ") m at " << std::defaultfloat << all[best] << " m/s";
+  return os.str();
+}
+
 void Engine::check_state() {
   // Each process checks what it owns; the first problem found (in process order) stops all.
   std::string problem;

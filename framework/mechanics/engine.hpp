@@ -78,6 +78,11 @@ class Engine {
   // the magnitudes of the forces on it, translation only) in the last step, and that block.
   double block_unbalanced_ratio() const { return block_ratio_; }
   int worst_block() const { return worst_block_; }
+  // Where the model moves fastest now, in words: the gridpoint with the largest speed, its block
+  // and its position, e.g. "block 'rm.98' near (5.155, 6.000) m at 0.0155 m/s". Said when a stage
+  // does not reach equilibrium, so that a user sees where it chatters without reading the state.
+  // A collective call when decomposed (every process gets the same answer).
+  std::string fastest_gridpoint() const;
   // Contact force exerted on a block (sum over its contacts) in the last step [N/m].
   Vec2 contact_force_on(int block) const;
   double kinetic_energy() const;  // of the whole model (a collective call when decomposed)

@@ -51,6 +51,8 @@ bool StageRunner::done(long n) const {
         if (st_.block_ratio > 0.0 && !blocks_ok)
           why += "; block '" + e_.model().blocks[static_cast<std::size_t>(e_.worst_block())].name + "' has its own ratio " +
                  std::to_string(e_.block_unbalanced_ratio()) + " > block_ratio " + std::to_string(st_.block_ratio);
+        // Where it still moves: the usual place to look (a chattering contact, a loose block).
+        why += "; fastest gridpoint: " + e_.fastest_gridpoint();
         if (st_.continue_at_max_steps) {
           unconverged_ = "stage '" + st_.name + "' ended at max_steps = " + std::to_string(st_.max_steps) +
                          " without equilibrium (" + why + "); at_max_steps = \"continue\": the run goes on";
