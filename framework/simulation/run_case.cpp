@@ -330,6 +330,11 @@ class Progress {
               << "  vtk/contacts.pvd  contact points (normal/shear stress, slip state)\n"
               << "  final_state.h5    checkpoint of the final state\n";
     if (!csv.empty()) std::cout << "  " << csv.filename().string() << "  joint test record in the measurement format\n";
+    if (fs::exists(out / "drift" / "events.csv"))
+      std::cout << "  drift/            the drift study's results per stage (events.csv, contacts_*.csv, fallen_blocks.csv,"
+                   " blocks.pvd, joints.pvd; docs/drift-study.md)\n";
+    if (fs::exists(out / "scaled_off.csv"))
+      std::cout << "  scaled_off.csv    the blocks scale_off took out (stage, step, block, how far each had moved)\n";
     for (std::size_t i = 0; i < c_.stages.size(); ++i)
       if (!c_.stages[i].motions.empty())
         std::cout << "  motion_" << i + 1 << "_" << c_.stages[i].name << ".csv  the ground motion applied in that stage\n";

@@ -47,6 +47,7 @@ PY
 # 1. The serial run: the key block is taken out, the stage converges, six blocks remain.
 if "$bin" run "$case" --out "$tmp/s" --checkpoint-every "500 steps" >"$tmp/s.log" 2>&1; then
   if grep -q "scaled off 1 block that moved more than 0.1 m in stage 'excavate': key (0.101 m" "$tmp/s.log" &&
+     grep -q "^  scaled_off.csv " "$tmp/s.log" &&  # named in the run's closing list of outputs
      r=$("$py" - "$tmp/s" <<'PY'
 import sys, csv, h5py
 d = sys.argv[1]
