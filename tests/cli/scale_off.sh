@@ -64,6 +64,13 @@ PY
 else
   echo "FAIL the crown case: exit $?"; tail -5 "$tmp/s.log"; fail=1
 fi
+# The step of the removal (that run's detection that took the key block out), and the kept
+# checkpoints of that run just before and just after it, for the checks below.
+removal=$(awk -F, '/^2,excavate,[0-9]+,key,/{print $3}' "$tmp/s/scaled_off.csv" 2>/dev/null)
+before=$(ls "$tmp/s" | sed -n 's/^checkpoint_step_\([0-9]*\)\.h5$/\1/p' | sort -n | awk -v r="${removal:-0}" '$1 < r' | tail -1)
+after=$(ls "$tmp/s" | sed -n 's/^checkpoint_step_\([0-9]*\)\.h5$/\1/p' | sort -n | awk -v r="${removal:-0}" '$1 > r' | head -1)
+[ -n "$removal" ] && [ -n "$before" ] && [ -n "$after" ] && echo "ok   removal at step $removal; checkpoints at $before and $after around it" ||
+  { echo "FAIL the removal's step (${removal:-none}) or the checkpoints around it (${before:-none}, ${after:-none})"; fail=1; removal=0; }
 # Without scale_off the falling block keeps the stage from its equilibrium.
 grep -v '^scale_off' "$case" > "$tmp/none.toml"
 "$bin" run "$tmp/none.toml" --out "$tmp/none" --quiet >"$tmp/none.log" 2>&1
@@ -85,7 +92,7 @@ else echo "FAIL held block: exit $code"; cat "$tmp/held.log"; fail=1; fi
 sed 's/^max_steps = 40000/max_steps = 14700/' "$case" > "$tmp/cut.toml"
 "$bin" run "$tmp/cut.toml" --out "$tmp/cut" --quiet >"$tmp/cut.log" 2>&1
 code=$?
-if [ $code -eq 3 ] && grep -q "^2,excavate,16620,key," "$tmp/cut/scaled_off.csv"; then echo "ok   a run stopped after the removal (exit 3) keeps scaled_off.csv"
+if [ $code -eq 3 ] && grep -q "^2,excavate,$removal,key," "$tmp/cut/scaled_off.csv"; then echo "ok   a run stopped after the removal (exit 3) keeps scaled_off.csv"
 else echo "FAIL a run stopped after the removal: exit $code, $(cat "$tmp/cut/scaled_off.csv" 2>&1)"; fail=1; fi
 
 # 2. On 2 and 3 processes: the serial run's results.
@@ -98,7 +105,7 @@ done
 
 # 3. Restarts (on 2 processes) from the first stage's end and from within the stage before and
 # after the block was taken out: the uninterrupted run's results.
-for k in stage_1_settle checkpoint_step_16520 checkpoint_step_17020; do
+for k in stage_1_settle "checkpoint_step_$before" "checkpoint_step_$after"; do
   if [ ! -f "$tmp/s/$k.h5" ]; then echo "FAIL no $k.h5 to restart from: $(ls "$tmp/s" | tr '\n' ' ')"; fail=1; continue; fi
   cp -r "$tmp/s" "$tmp/r_$k"
   if timeout 600 mpirun -np 2 "$bin" run "$case" --out "$tmp/r_$k" --restart "$tmp/r_$k/$k.h5" --quiet >"$tmp/r_$k.log" 2>&1 &&
@@ -138,13 +145,13 @@ assert t != s
 t += '\n[[histories]]\nname = "energy_kinetic"\nquantity = "energy"\ncomponent = "kinetic"\n\n[output]\ncheckpoint_keep = 5\n'
 open(sys.argv[2], "w").write(t)
 PY
-if "$bin" run "$tmp/en.toml" --out "$tmp/en" --quiet --checkpoint-every "10 steps" >"$tmp/en.log" 2>&1 && [ -f "$tmp/en/checkpoint_step_16620.h5" ] &&
+if "$bin" run "$tmp/en.toml" --out "$tmp/en" --quiet --checkpoint-every "10 steps" >"$tmp/en.log" 2>&1 && [ -f "$tmp/en/checkpoint_step_$removal.h5" ] &&
    "$py" -c "
 import sys, h5py
 k = sorted(x for x in h5py.File(sys.argv[1], 'r')['arrays'].keys() if x.startswith('energy'))
-sys.exit(0 if k == ['energy.dt_prev', 'energy.scale', 'energy.terms'] else 1)" "$tmp/en/checkpoint_step_16620.h5"; then
+sys.exit(0 if k == ['energy.dt_prev', 'energy.scale', 'energy.terms'] else 1)" "$tmp/en/checkpoint_step_$removal.h5"; then
   cp -r "$tmp/en" "$tmp/en_r"
-  if "$bin" run "$tmp/en.toml" --out "$tmp/en_r" --restart "$tmp/en_r/checkpoint_step_16620.h5" --quiet >"$tmp/en_r.log" 2>&1 &&
+  if "$bin" run "$tmp/en.toml" --out "$tmp/en_r" --restart "$tmp/en_r/checkpoint_step_$removal.h5" --quiet >"$tmp/en_r.log" 2>&1 &&
      r=$(same "$tmp/en" "$tmp/en_r"); then echo "ok   restart from the checkpoint at the removal's detection (energy terms alone): $r"
   else echo "FAIL restart from the checkpoint at the removal: ${r:-}"; tail -3 "$tmp/en_r.log"; fail=1; fi
 else
