@@ -117,7 +117,7 @@ Projection project_rounded(const Model& m, const Block& b, const BoundaryEdge* g
       } else {
         const BoundaryEdge& corner = xi < 0.0 ? edge : next;
         const bool convex = (xi < 0.0 ? cross(up, u) : cross(u, un)) > 0.0;
-        const bool outside = corner.flat ? dv.dot(corner.flat_normal) > 0.0 : convex ? on > 0.0 || oo > 0.0 : false;
+        const bool outside = corner.flat ? dv.dot(corner.flat_normal) > 0.0 : convex && (on > 0.0 || oo > 0.0);
         const Vec2 q = h * nm + std::copysign(beyond, across) * tm;
         const double r = q.norm();
         pr.dist = outside ? r : -r;
@@ -212,7 +212,6 @@ void bend_at_vertex(const Model& m, const Block& b, const BoundaryEdge* geo, con
   // Weight of the neighbouring edge: 0 at d before the vertex, 1/2 at it, 1 at d beyond.
   const double beyond = at_end ? xi - len : -xi;
   const double wt = std::clamp(0.5 + 0.5 * beyond / d, 0.0, 1.0);
-  if (wt <= 0.0) return;
   const Vec2 nb = ((1.0 - wt) * pr.normal + wt * q.normal).normalized();
   pr.dist = (1.0 - wt) * pr.dist + wt * q.dist;
   pr.normal = nb;

@@ -15,15 +15,16 @@
 #include <cmath>
 #include <iostream>
 #include <numbers>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include "framework/contact/detection.hpp"
 #include "framework/io/case.hpp"
 #include "framework/simulation/run_case.hpp"
+#include "polygon_case.hpp"
 
 using namespace rockdem;
+using polygon_case::block;
 
 namespace {
 
@@ -32,26 +33,11 @@ const std::string kHeader =
     "title = \"corner readings\"\n[model]\nrounding = \"1 mm\"\ndetection_tolerance = \"1 mm\"\n"
     "[[joints]]\nname = \"j\"\nlaw = \"coulomb_slip\"\nbetween = [\"*\", \"*\"]\nkn = \"10 GPa/m\"\nks = \"10 GPa/m\"\n"
     "friction = \"30 deg\"\n";
-const std::string kStage = "[[stages]]\nname = \"s\"\nuntil = \"steps\"\nsteps = 1\n";
-
-std::string polygon_block(const std::string& name, const std::vector<Vec2>& pts) {
-  std::ostringstream os;
-  os.precision(17);
-  os << "[[blocks]]\nname = \"" << name << "\"\ntype = \"rigid\"\ndensity = \"2650 kg/m3\"\npolygon = [";
-  for (std::size_t i = 0; i < pts.size(); ++i) os << (i ? ", " : "") << "[\"" << pts[i].x() << " m\", \"" << pts[i].y() << " m\"]";
-  os << "]\n";
-  return os.str();
-}
-
-const Block& block(const Case& c, const std::string& name) {
-  return c.model.blocks[static_cast<std::size_t>(c.block_index(name, "test"))];
-}
 
 // Moves block `name` so that its boundary point `local` is at `to`.
 void place(Case& c, const std::string& name, int local, const Vec2& to) {
   const Block& b = block(c, name);
-  const Vec2 by = to - c.model.gp[static_cast<std::size_t>(b.boundary[static_cast<std::size_t>(local)])].x;
-  for (int i = b.first_gp; i < b.first_gp + b.n_gp; ++i) c.model.gp[static_cast<std::size_t>(i)].x += by;
+  polygon_case::translate(c, name, to - c.model.gp[static_cast<std::size_t>(b.boundary[static_cast<std::size_t>(local)])].x);
 }
 
 // The contacts of block a's boundary point `local` on block b.
@@ -72,8 +58,8 @@ TEST(CornerReadings, CornerBesideAWedgeTipIsAsFarAsTheFace) {
   // (its point 0) is 1.5 mm below the tip's height and 32 mm from the wedge's right face.
   const double half = 11.0 * std::numbers::pi / 180.0, h = 1.0, below = 0.0015, beside = 0.032;
   const double base = h * std::tan(half);
-  Case c = load_case_text(kHeader + polygon_block("wedge", {{-base, 0}, {base, 0}, {0, h}}) +
-                              polygon_block("sq", {{0.5, 0.5}, {0.6, 0.5}, {0.6, 0.6}, {0.5, 0.6}}) + kStage,
+  Case c = load_case_text(kHeader + polygon_case::rigid_block("wedge", {{-base, 0}, {base, 0}, {0, h}}) +
+                              polygon_case::rigid_block("sq", {{0.5, 0.5}, {0.6, 0.5}, {0.6, 0.6}, {0.5, 0.6}}) + polygon_case::kOneStep,
                           "wedge", ".");
   // The right face's outward normal (cos 11, sin 11); the corner at that distance from the face.
   const Vec2 n(std::cos(half), std::sin(half));
@@ -105,8 +91,8 @@ TEST(CornerReadings, NoContactBeyondTheCornerOfAFaceWithFlatVertices) {
   // the face, so that its flat stretch is measured first (the search keeps the nearest reading so
   // far and skips edges farther than that).
   const std::vector<Vec2> pts = {{0.75, 0}, {0.5, 0}, {0.25, 0}, {0, 0}, {0, -1}, {2, -1}, {2, -0.5}, {1, -0.5}, {1, 0}};
-  Case c = load_case_text(kHeader + polygon_block("base", pts) + polygon_block("far", {{2, 2}, {2.1, 2}, {2.1, 2.1}, {2, 2.1}}) +
-                              polygon_block("on", {{3, 3}, {3.1, 3}, {3.1, 3.1}, {3, 3.1}}) + kStage,
+  Case c = load_case_text(kHeader + polygon_case::rigid_block("base", pts) + polygon_case::rigid_block("far", {{2, 2}, {2.1, 2}, {2.1, 2.1}, {2, 2.1}}) +
+                              polygon_case::rigid_block("on", {{3, 3}, {3.1, 3}, {3.1, 3.1}, {3, 3.1}}) + polygon_case::kOneStep,
                           "flat_vertices", ".");
   place(c, "far", 0, Vec2(1.2, -0.0005));
   place(c, "on", 0, Vec2(0.4, -0.0005));
@@ -128,8 +114,8 @@ namespace {
 // (point 0) is placed by the caller.
 Case bend_case() {
   const double t = std::tan(15.0 * std::numbers::pi / 180.0);
-  return load_case_text(kHeader + polygon_block("base", {{-1, -1}, {1, -1}, {1, -t}, {0, 0}, {-1, 0}}) +
-                            polygon_block("sq", {{2, 2}, {2.1, 2}, {2.1, 2.1}, {2, 2.1}}) + kStage,
+  return load_case_text(kHeader + polygon_case::rigid_block("base", {{-1, -1}, {1, -1}, {1, -t}, {0, 0}, {-1, 0}}) +
+                            polygon_case::rigid_block("sq", {{2, 2}, {2.1, 2}, {2.1, 2.1}, {2, 2.1}}) + polygon_case::kOneStep,
                         "bend", ".");
 }
 

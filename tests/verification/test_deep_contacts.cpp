@@ -22,8 +22,10 @@
 #include "framework/contact/detection.hpp"
 #include "framework/io/case.hpp"
 #include "framework/simulation/run_case.hpp"
+#include "polygon_case.hpp"
 
 using namespace rockdem;
+using polygon_case::translate;
 
 namespace {
 
@@ -34,34 +36,15 @@ std::string header(const std::string& kn = "10 GPa/m") {
          kn + "\"\nks = \"" + kn + "\"\nfriction = \"30 deg\"\n";
 }
 
-std::string polygon_block(const std::string& name, const std::vector<Vec2>& pts) {
-  std::ostringstream os;
-  os.precision(17);
-  os << "[[blocks]]\nname = \"" << name << "\"\ntype = \"rigid\"\ndensity = \"2650 kg/m3\"\npolygon = [";
-  for (std::size_t i = 0; i < pts.size(); ++i)
-    os << (i ? ", " : "") << "[\"" << pts[i].x() << " m\", \"" << pts[i].y() << " m\"]";
-  os << "]\n";
-  return os.str();
-}
-
-// Every case needs a stage; these checks call detection directly.
-const std::string kStage = "[[stages]]\nname = \"s\"\nuntil = \"steps\"\nsteps = 1\n";
-
-// Blocks may not overlap in a case file: a block is pushed into another by moving its points.
-void translate(Case& c, const std::string& name, const Vec2& by) {
-  const Block& b = c.model.blocks[static_cast<std::size_t>(c.block_index(name, "test"))];
-  for (int i = b.first_gp; i < b.first_gp + b.n_gp; ++i) c.model.gp[static_cast<std::size_t>(i)].x += by;
-}
-
 std::string square(const std::string& name, double x0, double y0, double w) {
-  return polygon_block(name, {{x0, y0}, {x0 + w, y0}, {x0 + w, y0 + w}, {x0, y0 + w}});
+  return polygon_case::rigid_block(name, {{x0, y0}, {x0 + w, y0}, {x0 + w, y0 + w}, {x0, y0 + w}});
 }
 
 // Contacts of points of block `a` on block `b` after a detection pass.
 std::vector<Contact> contacts_on(Case& c, const std::string& a, const std::string& b) {
   detect_contacts(c.model, c.settings.detection);
-  const BlockId ia = c.model.blocks[static_cast<std::size_t>(c.block_index(a, "test"))].id;
-  const BlockId ib = c.model.blocks[static_cast<std::size_t>(c.block_index(b, "test"))].id;
+  const BlockId ia = polygon_case::block(c, a).id;
+  const BlockId ib = polygon_case::block(c, b).id;
   std::vector<Contact> out;
   for (const Contact& k : c.model.contacts.items)
     if (k.key.point_block == ia && k.key.other_block == ib) out.push_back(k);
@@ -78,7 +61,7 @@ std::vector<Vec2> c_shape() {
 }  // namespace
 
 TEST(DeepContacts, NoContactAcrossTheOpeningOfAConcaveBlock) {
-  Case c = load_case_text(header() + polygon_block("c", c_shape()) + square("inside", 0.3, -0.25, 0.5) + kStage, "c_shape", ".");
+  Case c = load_case_text(header() + polygon_case::rigid_block("c", c_shape()) + square("inside", 0.3, -0.25, 0.5) + polygon_case::kOneStep, "c_shape", ".");
   const auto found = contacts_on(c, "inside", "c");
   for (const Contact& k : found)
     ADD_FAILURE() << "point " << k.key.point_local << " of the inner square at (" << c.model.gp[k.point].x.transpose()
@@ -92,7 +75,7 @@ TEST(DeepContacts, NoContactInTheNotchOfAnLShapedBlock) {
   // and a 0.4 m square in its notch, 0.3 m from its inner faces and 0.3 m from the lines of its
   // outer right and top edges, on the inside of those lines.
   const std::vector<Vec2> l = {{0, 0}, {2, 0}, {2, 0.5}, {2, 1}, {1, 1}, {1, 2}, {0.5, 2}, {0, 2}};
-  Case c = load_case_text(header() + polygon_block("l", l) + square("sq", 1.3, 1.3, 0.4) + kStage, "l_shape", ".");
+  Case c = load_case_text(header() + polygon_case::rigid_block("l", l) + square("sq", 1.3, 1.3, 0.4) + polygon_case::kOneStep, "l_shape", ".");
   const auto found = contacts_on(c, "sq", "l");
   for (const Contact& k : found)
     ADD_FAILURE() << "point at (" << c.model.gp[k.point].x.transpose() << ") in contact with the L, overlap " << k.overlap << " m";
@@ -112,7 +95,7 @@ TEST(DeepContacts, CornerPressedDeeperThanTheToleranceKeepsALength) {
   // A diamond whose lower tip is 10 mm into a base (detection distance 2 mm).
   const double d = 0.01;
   Case c = load_case_text(header() + square("base", -1, -2, 2) +
-                              polygon_block("diamond", {{0, 0}, {0.5, 0.5}, {0, 1}, {-0.5, 0.5}}) + kStage,
+                              polygon_case::rigid_block("diamond", {{0, 0}, {0.5, 0.5}, {0, 1}, {-0.5, 0.5}}) + polygon_case::kOneStep,
                           "diamond", ".");
   translate(c, "diamond", Vec2(0, -d));
   const auto found = contacts_on(c, "diamond", "base");
@@ -135,7 +118,7 @@ TEST(DeepContacts, DiamondOnItsTipComesToRestDeeperThanTheTolerance) {
   // comes to rest 5.9 mm lower), more than twice the 2 mm detection distance.
   std::ostringstream os;
   os << header("0.2 GPa/m") << square("base", -1, -2, 2)
-     << polygon_block("diamond", {{0, 0}, {0.5, 0.5}, {0, 1}, {-0.5, 0.5}})
+     << polygon_case::rigid_block("diamond", {{0, 0}, {0.5, 0.5}, {0, 1}, {-0.5, 0.5}})
      << "[[boundary]]\ntype = \"fixed\"\nblock = \"base\"\n"
      << "[[boundary]]\ntype = \"velocity\"\nblock = \"diamond\"\nspin = \"0 rad/s\"\nvx = \"0 m/s\"\n"
      << "[[stages]]\nname = \"settle\"\ndamping = \"local\"\nuntil = \"equilibrium\"\nratio = 1e-7\nmax_steps = 200000\n";
@@ -143,7 +126,7 @@ TEST(DeepContacts, DiamondOnItsTipComesToRestDeeperThanTheTolerance) {
   const auto out = std::filesystem::temp_directory_path() / ("rockdem_deep_" + std::to_string(::getpid()));
   run_case(c, out, true);
   std::filesystem::remove_all(out);
-  const Block& dia = c.model.blocks[static_cast<std::size_t>(c.block_index("diamond", "test"))];
+  const Block& dia = polygon_case::block(c, "diamond");
   const double sink = -(dia.xc - dia.xc0).y();
   const double weight = 2650.0 * 0.5 * 9.81;
   double reaction = 0.0;

@@ -1,0 +1,38 @@
+#pragma once
+// Case-file text and placement helpers for the contact-geometry checks that build blocks of any
+// outline (test_corner_readings.cpp, test_deep_contacts.cpp). Blocks may not overlap in a case
+// file, so a check that needs a point pressed into a face moves the block after parsing.
+#include <cstddef>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "framework/io/case.hpp"
+
+namespace rockdem::polygon_case {
+
+// A rigid tuff-density block with the given outline (counter-clockwise, metres), as [[blocks]].
+inline std::string rigid_block(const std::string& name, const std::vector<Vec2>& pts) {
+  std::ostringstream os;
+  os.precision(17);
+  os << "[[blocks]]\nname = \"" << name << "\"\ntype = \"rigid\"\ndensity = \"2650 kg/m3\"\npolygon = [";
+  for (std::size_t i = 0; i < pts.size(); ++i)
+    os << (i ? ", " : "") << "[\"" << pts[i].x() << " m\", \"" << pts[i].y() << " m\"]";
+  os << "]\n";
+  return os.str();
+}
+
+// Every case needs a stage; these checks call detection directly.
+inline const std::string kOneStep = "[[stages]]\nname = \"s\"\nuntil = \"steps\"\nsteps = 1\n";
+
+inline const Block& block(const Case& c, const std::string& name) {
+  return c.model.blocks[static_cast<std::size_t>(c.block_index(name, "test"))];
+}
+
+// Moves every gridpoint of block `name` by `by`.
+inline void translate(Case& c, const std::string& name, const Vec2& by) {
+  const Block& b = block(c, name);
+  for (int i = b.first_gp; i < b.first_gp + b.n_gp; ++i) c.model.gp[static_cast<std::size_t>(i)].x += by;
+}
+
+}  // namespace rockdem::polygon_case
