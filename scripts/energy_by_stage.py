@@ -9,7 +9,9 @@ The run must record the components as histories named <prefix><component> (defau
     name = "energy_kinetic"
     quantity = "energy"
     component = "kinetic"
-for kinetic, strain, contact, gravity_work, boundary_work, slip, damping and imbalance.
+for kinetic, strain, contact, gravity_work, boundary_work, slip, damping and imbalance, and, if
+recorded, refresh (the contacts' elastic energy the contact refreshes changed, part of the
+imbalance): then two more columns, refresh and the closure of imbalance + refresh.
 
 Usage: /usr/bin/python3 scripts/energy_by_stage.py RUN_DIR [--prefix PREFIX]
 """
@@ -34,13 +36,21 @@ def main(argv):
             return 2
         stage = h["stage"][:]
         e = {t: h[prefix + t][:] for t in TERMS + ("imbalance",)}
-    print("stage  " + "  ".join(f"{t:>13}" for t in TERMS) + "      imbalance  closure")
+        refresh = prefix + "refresh" in h
+        if refresh:
+            e["refresh"] = h[prefix + "refresh"][:]
+    print("stage  " + "  ".join(f"{t:>13}" for t in TERMS) + "      imbalance  closure" +
+          ("        refresh  without" if refresh else ""))
     for s in sorted(set(stage.tolist())):
         idx = np.where(stage == s)[0]
         d = {t: e[t][idx[-1]] - e[t][idx[0]] for t in e}
         scale = max(abs(d[t]) for t in TERMS)
         closure = abs(d["imbalance"]) / scale if scale > 0 else 0.0
-        print(f"{int(s):5d}  " + "  ".join(f"{d[t]:13.4g}" for t in TERMS) + f"  {d['imbalance']:13.4g}  {closure:7.2%}")
+        line = f"{int(s):5d}  " + "  ".join(f"{d[t]:13.4g}" for t in TERMS) + f"  {d['imbalance']:13.4g}  {closure:7.2%}"
+        if refresh:
+            rest = abs(d["imbalance"] + d["refresh"]) / scale if scale > 0 else 0.0
+            line += f"  {d['refresh']:13.4g}  {rest:7.2%}"
+        print(line)
     return 0
 
 

@@ -41,6 +41,11 @@ struct EnergyTerms {
   // while nothing has happened). Relative to the terms' present values it would blow up whenever
   // they all pass near zero, e.g. a bouncing block at the top of its flight.
   double error = 0.0;
+  // Not a term of the balance but a measure of one of its errors: how much the contact refreshes
+  // changed the contacts' elastic energy with their stresses as they were (the lengths shared out
+  // again, contacts made with a neighbour's state or dropped while loaded). No force does that
+  // work, so it shows in the imbalance; imbalance + refresh is what is left without it [J/m].
+  double refresh = 0.0;
 };
 
 // What the engine hands over each step: its inertial masses (mass scaling included).
@@ -75,6 +80,12 @@ class EnergyBalance {
   // just taken; `beta` the Rayleigh stiffness coefficient (its dissipation is the zone forces'
   // work that the zone stresses did not store).
   void after_step(const Model& m, const EnergyMasses& masses, double dt, double beta);
+  // Around a contact refresh (Engine::refresh_contacts): the contacts' elastic energy before and
+  // after it, as contact_energy counts it; the change goes to `refresh`.
+  static double stored_in_contacts(const Model& m) { return contact_energy(m, nullptr); }
+  void refreshed(double before, double after) {
+    if (on_ && started_) t_.refresh += after - before;
+  }
 
  private:
   static double contact_energy(const Model& m, double* slip_increment);

@@ -85,9 +85,10 @@ void Engine::sum_energy() {
   // Each process holds the terms of what it owns; they add up, every step, and the relative error
   // is taken against the largest magnitude the summed terms have reached, as a serial run does.
   const EnergyTerms& t = energy_.terms();
-  double v[] = {t.kinetic, t.strain, t.contact, t.gravity_work, t.boundary_work, t.slip, t.damping, t.kinetic_start, t.contact_start};
-  comm_.sum(v, 9);
+  double v[] = {t.kinetic, t.strain, t.contact, t.gravity_work, t.boundary_work, t.slip, t.damping, t.kinetic_start, t.contact_start, t.refresh};
+  comm_.sum(v, 10);
   energy_sum_ = EnergyTerms{v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8]};
+  energy_sum_.refresh = v[9];
   const EnergyTerms& e = energy_sum_;
   energy_scale_ = std::max({energy_scale_, std::abs(e.gravity_work), std::abs(e.boundary_work), std::abs(e.kinetic - e.kinetic_start),
                             std::abs(e.strain), std::abs(e.contact), std::abs(e.slip), std::abs(e.damping)});
@@ -153,7 +154,9 @@ void Engine::begin_stage(const std::string& name, const Damping& d, bool resumin
   last_good_.take(m_);
 }
 
-void Engine::refresh_contacts() {
+void Engine::refresh_contacts(bool account) {
+  account = account && energy_.tracking();
+  const double before = account ? EnergyBalance::stored_in_contacts(m_) : 0.0;
   on_all_processes([&] {
     // Which blocks each process needs as ghosts after the motion since the last detection (a
     // wider margin than the broad phase's, so that none it would pair is missed), then their
@@ -162,6 +165,11 @@ void Engine::refresh_contacts() {
     comm_.forward(m_);
     detect_contacts(m_, s_.detection, s_.threads);
   });
+  if (account) {
+    energy_.refreshed(before, EnergyBalance::stored_in_contacts(m_));
+    // The step summed the terms before this refresh; what is sampled after it sees this one too.
+    if (comm_.size() > 1) sum_energy();
+  }
   steps_since_refresh_ = 0;
   travel_since_refresh_ = 0.0;
   compute_time_step();
@@ -209,7 +217,7 @@ OwnerChange Engine::rebalance(double limit) {
   for (const Contact& c : m_.contacts.items)
     if (c.fresh) fresh.push_back(c.key);
   std::sort(fresh.begin(), fresh.end());
-  refresh_contacts();
+  refresh_contacts(false);
   for (Contact& c : m_.contacts.items)
     if (std::binary_search(fresh.begin(), fresh.end(), c.key)) c.fresh = true;
   last_good_.take(m_);
@@ -225,7 +233,7 @@ void Engine::take_out(const std::function<Renumbering()>& remove) {
   if (m_.part.decomposed()) comm_.collect(m_, -1);
   const Renumbering r = remove();
   if (r.block.empty()) {  // nothing to take out after all: the collected state is left by a detection
-    if (m_.part.decomposed()) refresh_contacts();
+    if (m_.part.decomposed()) refresh_contacts(false);
     return;
   }
   const std::vector<double>& avg = held.at("engine.damping_averages");
@@ -254,7 +262,7 @@ void Engine::take_out(const std::function<Renumbering()>& remove) {
   } else {
     inertial_mass_.clear();
   }
-  refresh_contacts();  // a detection like any other: on the model without the blocks
+  refresh_contacts(false);  // a detection like any other: on the model without the blocks
   last_good_.take(m_);
 }
 
@@ -481,8 +489,8 @@ std::map<std::string, std::vector<double>> Engine::saved_state() const {
   }
   if (!items.empty()) {
     const EnergyTerms& t = comm_.size() == 1 ? energy_.terms() : energy_sum_;
-    items["energy.terms"] = {t.kinetic,       t.strain, t.contact, t.gravity_work,  t.boundary_work,
-                             t.slip,          t.damping, t.kinetic_start, t.contact_start, t.error};
+    items["energy.terms"] = {t.kinetic, t.strain,        t.contact,       t.gravity_work, t.boundary_work, t.slip,
+                             t.damping, t.kinetic_start, t.contact_start, t.error,        t.refresh};
     items["energy.scale"] = {comm_.size() == 1 ? energy_.scale() : energy_scale_};
     a.merge(items);
   }
@@ -504,9 +512,12 @@ void Engine::restore_state(const std::map<std::string, std::vector<double>>& a, 
   max_speed_ = v->second[3];
   const auto t = a.find("energy.terms");
   const auto sc = a.find("energy.scale");
-  if (t == a.end() || sc == a.end() || t->second.size() != 10 || sc->second.size() != 1) return;
+  // Ten terms, and the refresh's change as an eleventh since 2026-11-30 (a checkpoint from before
+  // starts it at zero).
+  if (t == a.end() || sc == a.end() || (t->second.size() != 10 && t->second.size() != 11) || sc->second.size() != 1) return;
   const auto& x = t->second;
-  const EnergyTerms whole{x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], x[8], x[9]};
+  EnergyTerms whole{x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], x[8], x[9]};
+  if (x.size() == 11) whole.refresh = x[10];
   // The terms are sums over the processes: one process carries the whole model's so far.
   const EnergyTerms mine = comm_.root() ? whole : EnergyTerms{};
   if (!energy_.restore(m_, a, mine, sc->second[0]))

@@ -137,7 +137,10 @@ class Engine {
   const ModelSnapshot& last_good() const { return last_good_; }
   ModelSnapshot snapshot() const;
   void restore(const ModelSnapshot& s);
-  void refresh_contacts();  // detection + time step update
+  // Detection + time step update. `account`: the change of the contacts' elastic energy goes to
+  // the energy balance's `refresh` (not after blocks were taken out, whose contacts' energy leaves
+  // the accounting, or a change of owners, which finds the same contacts again).
+  void refresh_contacts(bool account = true);
   Model& model() { return m_; }
   const Model& model() const { return m_; }
   const EngineSettings& settings() const { return s_; }

@@ -36,7 +36,7 @@ const std::vector<std::string> kXY{"x", "y"};
 double energy_term(const Model&, const Engine& e, const HistoryTarget& t) {
   const EnergyTerms& b = e.energy();
   const double terms[] = {b.kinetic, b.strain, b.contact, b.gravity_work, b.boundary_work, b.slip, b.damping, b.work_in(),
-                          b.accounted(), b.imbalance()};
+                          b.accounted(), b.imbalance(), b.refresh};
   return terms[t.component];
 }
 
@@ -69,10 +69,12 @@ const HistoryQuantityRegistrar energy_q{HistoryQuantity{
     "energy", "J/m",
     "energy balance since the first sample: kinetic (whole-step, physical masses), strain (work taken by the zones), "
     "contact (elastic energy in the contacts, change), gravity_work, boundary_work, slip (dissipated by joint slip), "
-    "damping (dissipated), work_in (gravity + boundary), accounted (stored + dissipated), imbalance (work_in - accounted)",
+    "damping (dissipated), work_in (gravity + boundary), accounted (stored + dissipated), imbalance (work_in - accounted), "
+    "refresh (not a term: the contacts' elastic energy the contact refreshes changed, which no force did and so is in "
+    "the imbalance)",
     false, false, false,
     {"kinetic", "strain", "contact", "gravity_work", "boundary_work", "slip", "damping", "work_in", "accounted",
-     "imbalance"},
+     "imbalance", "refresh"},
     Reduction::global, energy_term}};
 const HistoryQuantityRegistrar energy_balance_error_q{HistoryQuantity{
     "energy_balance_error", "",
