@@ -57,6 +57,14 @@ double EnergyBalance::contact_energy(const Model& m, double* slip_increment) {
   return e;
 }
 
+void EnergyBalance::refreshed(double before, double after) {
+  if (!on_ || !started_) return;
+  t_.refresh += after - before;
+  t_.contact += after - before;
+  scale_ = std::max(scale_, std::abs(t_.contact));
+  t_.error = scale_ > 0.0 ? t_.imbalance() / scale_ : 0.0;
+}
+
 void EnergyBalance::after_step(const Model& m, const EnergyMasses& masses, double dt, double beta) {
   if (!on_) return;
   const std::size_t ng = m.gp.size(), nb = m.blocks.size(), nz = m.zones.size();

@@ -81,11 +81,11 @@ class EnergyBalance {
   // work that the zone stresses did not store).
   void after_step(const Model& m, const EnergyMasses& masses, double dt, double beta);
   // Around a contact refresh (Engine::refresh_contacts): the contacts' elastic energy before and
-  // after it, as contact_energy counts it; the change goes to `refresh`.
+  // after it, as contact_energy counts it. The change goes to `refresh` and at once to `contact`
+  // (which the next step would find anyway), so that a sample taken between the refresh and that
+  // step, as at the start of a stage, has both or neither.
   static double stored_in_contacts(const Model& m) { return contact_energy(m, nullptr); }
-  void refreshed(double before, double after) {
-    if (on_ && started_) t_.refresh += after - before;
-  }
+  void refreshed(double before, double after);
 
  private:
   static double contact_energy(const Model& m, double* slip_increment);

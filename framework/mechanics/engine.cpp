@@ -167,7 +167,7 @@ void Engine::refresh_contacts(bool account) {
   });
   if (account) {
     energy_.refreshed(before, EnergyBalance::stored_in_contacts(m_));
-    // The step summed the terms before this refresh; what is sampled after it sees this one too.
+    // The step summed the terms before this refresh; what is sampled after it sees it too.
     if (comm_.size() > 1) sum_energy();
   }
   steps_since_refresh_ = 0;

@@ -11,7 +11,7 @@
 
 namespace rockdem::polygon_case {
 
-// A rigid tuff-density block with the given outline (counter-clockwise, metres), as [[blocks]].
+// A rigid block of density 2650 kg/m3 with the given outline (counter-clockwise, metres), as [[blocks]].
 inline std::string rigid_block(const std::string& name, const std::vector<Vec2>& pts) {
   std::ostringstream os;
   os.precision(17);

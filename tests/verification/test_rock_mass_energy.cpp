@@ -22,7 +22,7 @@
 //    equally (docs/engine.md, contact lengths): 75 % became 3.4 %;
 //  - a rigid block's gridpoints moved by their chord over the step but told the contacts the
 //    tangent velocity at the new position, which leaves out (omega dt)^2 r / 2 along the arm at
-//    every step, always outward; the velocity is now the chord (Engine::integrate): 3.4 % became
+//    every step, always outward; the velocity is now the chord (Engine::step): 3.4 % became
 //    0.39 %, the balance error 0.49 %.
 // What is left is mostly the contact lengths' own motion: the Voronoi shares move with the points,
 // and a length that changes under a stress changes the stored energy with no force doing work
