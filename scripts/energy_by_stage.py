@@ -23,33 +23,46 @@ import numpy as np
 TERMS = ("kinetic", "strain", "contact", "gravity_work", "boundary_work", "slip", "damping")
 
 
-def main(argv):
-    if len(argv) < 2 or argv[1] in ("-h", "--help"):
-        print(__doc__.strip())
-        return 0 if len(argv) >= 2 else 2
-    prefix = argv[argv.index("--prefix") + 1] if "--prefix" in argv else "energy_"
-    with h5py.File(argv[1] + "/history.h5", "r", locking=False) as f:
+def stage_changes(run_dir, prefix="energy_"):
+    """Per stage, in order: (stage, the change of each recorded term over it, the largest change of
+    a term, the closure, and with `refresh` recorded the closure of imbalance + refresh, else
+    None). Raises KeyError naming the histories the run lacks."""
+    with h5py.File(run_dir + "/history.h5", "r", locking=False) as f:
         h = f["history"]
         missing = [t for t in TERMS + ("imbalance",) if prefix + t not in h]
         if missing:
-            print(f"energy_by_stage.py: {argv[1]}/history.h5 lacks " + ", ".join(prefix + t for t in missing), file=sys.stderr)
-            return 2
+            raise KeyError(", ".join(prefix + t for t in missing))
         stage = h["stage"][:]
-        e = {t: h[prefix + t][:] for t in TERMS + ("imbalance",)}
-        refresh = prefix + "refresh" in h
-        if refresh:
-            e["refresh"] = h[prefix + "refresh"][:]
-    print("stage  " + "  ".join(f"{t:>13}" for t in TERMS) + "      imbalance  closure" +
-          ("        refresh  without" if refresh else ""))
+        names = TERMS + ("imbalance",) + (("refresh",) if prefix + "refresh" in h else ())
+        e = {t: h[prefix + t][:] for t in names}
+    out = []
     for s in sorted(set(stage.tolist())):
         idx = np.where(stage == s)[0]
         d = {t: e[t][idx[-1]] - e[t][idx[0]] for t in e}
         scale = max(abs(d[t]) for t in TERMS)
         closure = abs(d["imbalance"]) / scale if scale > 0 else 0.0
-        line = f"{int(s):5d}  " + "  ".join(f"{d[t]:13.4g}" for t in TERMS) + f"  {d['imbalance']:13.4g}  {closure:7.2%}"
+        without = (abs(d["imbalance"] + d["refresh"]) / scale if scale > 0 else 0.0) if "refresh" in d else None
+        out.append((int(s), d, scale, closure, without))
+    return out
+
+
+def main(argv):
+    if len(argv) < 2 or argv[1] in ("-h", "--help"):
+        print(__doc__.strip())
+        return 0 if len(argv) >= 2 else 2
+    prefix = argv[argv.index("--prefix") + 1] if "--prefix" in argv else "energy_"
+    try:
+        rows = stage_changes(argv[1], prefix)
+    except KeyError as e:
+        print(f"energy_by_stage.py: {argv[1]}/history.h5 lacks {e.args[0]}", file=sys.stderr)
+        return 2
+    refresh = bool(rows) and rows[0][4] is not None
+    print("stage  " + "  ".join(f"{t:>13}" for t in TERMS) + "      imbalance  closure" +
+          ("        refresh  without" if refresh else ""))
+    for s, d, _, closure, without in rows:
+        line = f"{s:5d}  " + "  ".join(f"{d[t]:13.4g}" for t in TERMS) + f"  {d['imbalance']:13.4g}  {closure:7.2%}"
         if refresh:
-            rest = abs(d["imbalance"] + d["refresh"]) / scale if scale > 0 else 0.0
-            line += f"  {d['refresh']:13.4g}  {rest:7.2%}"
+            line += f"  {d['refresh']:13.4g}  {without:7.2%}"
         print(line)
     return 0
 

@@ -61,7 +61,7 @@ void EnergyBalance::refreshed(double before, double after) {
   if (!on_ || !started_) return;
   t_.refresh += after - before;
   t_.contact += after - before;
-  scale_ = std::max(scale_, std::abs(t_.contact));
+  scale_ = std::max(scale_, t_.largest());
   t_.error = scale_ > 0.0 ? t_.imbalance() / scale_ : 0.0;
 }
 
@@ -165,8 +165,7 @@ void EnergyBalance::after_step(const Model& m, const EnergyMasses& masses, doubl
   t_.boundary_work += boundary;
   t_.damping += damping;
   t_.slip += w * slip;
-  scale_ = std::max({scale_, std::abs(t_.gravity_work), std::abs(t_.boundary_work), std::abs(t_.kinetic - t_.kinetic_start),
-                     std::abs(t_.strain), std::abs(t_.contact), std::abs(t_.slip), std::abs(t_.damping)});
+  scale_ = std::max(scale_, t_.largest());
   t_.error = scale_ > 0.0 ? t_.imbalance() / scale_ : 0.0;
   dt_prev_ = dt;
   started_ = true;

@@ -12,6 +12,8 @@
 // strain work as 1/2 (sigma(n-1) + sigma(n)) : (eps(n) - eps(n-1)). With the half-step kinetic
 // energy and F(n).v dt the balance would wobble by a fraction of order omega dt of the energy in
 // a stiff contact, which is about all of it while a block bounces.
+#include <algorithm>
+#include <cmath>
 #include <map>
 #include <string>
 #include <vector>
@@ -37,6 +39,11 @@ struct EnergyTerms {
   double accounted() const { return (kinetic - kinetic_start) + strain + contact + slip + damping; }
   // work in - (stored + dissipated) [J/m].
   double imbalance() const { return work_in() - accounted(); }
+  // The largest magnitude of the terms now (the error's reference keeps the largest ever).
+  double largest() const {
+    return std::max({std::abs(gravity_work), std::abs(boundary_work), std::abs(kinetic - kinetic_start), std::abs(strain),
+                     std::abs(contact), std::abs(slip), std::abs(damping)});
+  }
   // The imbalance relative to the largest magnitude any term has reached since the start (0
   // while nothing has happened). Relative to the terms' present values it would blow up whenever
   // they all pass near zero, e.g. a bouncing block at the top of its flight.

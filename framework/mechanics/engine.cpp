@@ -90,8 +90,7 @@ void Engine::sum_energy() {
   energy_sum_ = EnergyTerms{v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8]};
   energy_sum_.refresh = v[9];
   const EnergyTerms& e = energy_sum_;
-  energy_scale_ = std::max({energy_scale_, std::abs(e.gravity_work), std::abs(e.boundary_work), std::abs(e.kinetic - e.kinetic_start),
-                            std::abs(e.strain), std::abs(e.contact), std::abs(e.slip), std::abs(e.damping)});
+  energy_scale_ = std::max(energy_scale_, e.largest());
   energy_sum_.error = energy_scale_ > 0.0 ? e.imbalance() / energy_scale_ : 0.0;
 }
 
