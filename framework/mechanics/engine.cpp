@@ -100,11 +100,11 @@ void Engine::begin_stage(const std::string& name, const Damping& d, bool resumin
   stage_ = name;
   stage_time_ = 0.0;
   damping_ = d;
-  // A new stage's masses (its own mass scaling) take no momentum rule: compute_time_step swaps
-  // the last masses into previous_mass_, so it is those that are cleared (clearing previous_mass_
-  // did nothing, and a run restarted from a stage checkpoint, with no masses yet, then differed
-  // from the uninterrupted run wherever a stage start raised masses under moving gridpoints).
-  inertial_mass_.clear();
+  // A new stage's masses (its own mass scaling) take the momentum rule from the last stage's
+  // (compute_time_step), which a checkpoint carries, so that a run restarted from one begins the
+  // stage as the uninterrupted run did. A run resumed within a stage recomputes the masses the
+  // checkpoint's detection found and so changes nothing.
+  stage_start_ = !resuming;
   for (auto& g : m_.gp) {
     g.fixed_x = g.fixed_y = false;
   }
@@ -313,12 +313,18 @@ void Engine::compute_time_step() {
   // A mass that grows under a moving gridpoint keeps its momentum, not its velocity: holding the
   // velocity would add kinetic energy every time a vibrating point's stiffness (and so its mass)
   // rises, and a sliver zone chattering against a joint was pumped that way until it turned
-  // inside out. A mass that shrinks keeps its velocity (kinetic energy falls). Same blocks, same
-  // gridpoints: within a stage; a stage start or an excavation renumbers them and starts afresh.
-  // Quasi-static stages (local damping) are left alone: their velocities are a device of the
+  // inside out. A mass that shrinks keeps its velocity (kinetic energy falls). Within a stage,
+  // quasi-static stages (local damping) are left alone: their velocities are a device of the
   // relaxation, local damping takes such energy out, and their load paths stay as they were.
+  // At a stage's start the rule applies whatever the damping, to gridpoints and rigid blocks
+  // (an excavation maps the masses to the renumbered points): a rest after an earthquake scales
+  // the masses up a hundredfold (mass_scaling_dt ten times the event's step), and the event's
+  // last velocities held under them carried a hundred times the model's kinetic energy into the
+  // rest (7,500 J/m in the drift study's first rest, where the event left 78), which the
+  // relaxation spent in joint slip (306 J/m) and local damping.
   previous_mass_.swap(inertial_mass_);
-  const bool same_points = previous_mass_.size() == m_.gp.size() && damping_.kind != Damping::Kind::local;
+  const bool stage_start = std::exchange(stage_start_, false);
+  const bool same_points = previous_mass_.size() == m_.gp.size() && (stage_start || damping_.kind != Damping::Kind::local);
   momentum_rule_ = same_points;
   inertial_mass_.assign(m_.gp.size(), 0.0);
   physical_mass_ = scaled_mass_ = 0.0;
@@ -338,6 +344,9 @@ void Engine::compute_time_step() {
     scaled_mass_ += mass;
     if (g.stiffness > 0.0) dt = std::min(dt, std::sqrt(beta * beta + 4.0 * mass / g.stiffness) - beta);
   });
+  previous_block_mass_.swap(block_mass_);
+  previous_block_inertia_.swap(block_inertia_);
+  const bool same_blocks = stage_start && previous_block_mass_.size() == nb && previous_block_inertia_.size() == nb;
   block_mass_.assign(nb, 0.0);
   block_inertia_.assign(nb, 0.0);
   for_owned_blocks(m_, [&](int bi) {
@@ -351,6 +360,12 @@ void Engine::compute_time_step() {
     }
     block_mass_[b] = mass;
     block_inertia_[b] = inertia;
+    if (same_blocks && !B.fixed && B.prescribed == 0) {
+      Block& M = m_.blocks[b];
+      const double m0 = previous_block_mass_[b], i0 = previous_block_inertia_[b];
+      if (m0 > 0.0 && mass > m0) M.vc *= m0 / mass;
+      if (i0 > 0.0 && inertia > i0) M.omega *= i0 / inertia;
+    }
     physical_mass_ += B.mass;
     scaled_mass_ += mass;
     if (B.fixed || B.prescribed == Block::kDriveAll) return;
@@ -477,6 +492,24 @@ std::map<std::string, std::vector<double>> Engine::saved_state() const {
   std::map<std::string, std::vector<double>> a{
       {"engine.block_contact_force", block_forces()},
       {"engine.step_values", {ratio_, block_ratio_, static_cast<double>(worst_block_), max_speed_}}};
+  // The inertial masses of the last detection, which the next stage's first masses are compared
+  // with (the momentum rule): each process's own, zeros elsewhere, so that they add up.
+  if (inertial_mass_.size() == m_.gp.size() && block_mass_.size() == m_.blocks.size() &&
+      block_inertia_.size() == m_.blocks.size()) {
+    std::vector<double> gm(m_.gp.size(), 0.0), bm(2 * m_.blocks.size(), 0.0);
+    for_owned_gridpoints(m_, [&](int i) { gm[static_cast<std::size_t>(i)] = inertial_mass_[static_cast<std::size_t>(i)]; });
+    for_owned_blocks(m_, [&](int b) {
+      const auto k = static_cast<std::size_t>(b);
+      bm[2 * k] = block_mass_[k];
+      bm[2 * k + 1] = block_inertia_[k];
+    });
+    if (comm_.size() > 1) {
+      comm_.sum_held(gm.data(), static_cast<int>(gm.size()));
+      comm_.sum_held(bm.data(), static_cast<int>(bm.size()));
+    }
+    a["engine.inertial_mass"] = std::move(gm);
+    a["engine.block_masses"] = std::move(bm);
+  }
   // The energy balance, when something tracks it, goes on from its terms (the whole model's).
   auto items = energy_.saved_items(m_);
   if (comm_.size() > 1) {
@@ -509,6 +542,19 @@ void Engine::restore_state(const std::map<std::string, std::vector<double>>& a, 
   block_ratio_ = v->second[1];
   worst_block_ = static_cast<int>(v->second[2]);
   max_speed_ = v->second[3];
+  // Checkpoints from before 2026-12-01 hold no masses: the next stage then starts with none to
+  // compare with, and no momentum rule, as runs did before.
+  const auto gm = a.find("engine.inertial_mass");
+  const auto bm = a.find("engine.block_masses");
+  if (gm != a.end() && bm != a.end() && gm->second.size() == m_.gp.size() && bm->second.size() == 2 * m_.blocks.size()) {
+    inertial_mass_ = gm->second;
+    block_mass_.resize(m_.blocks.size());
+    block_inertia_.resize(m_.blocks.size());
+    for (std::size_t b = 0; b < m_.blocks.size(); ++b) {
+      block_mass_[b] = bm->second[2 * b];
+      block_inertia_[b] = bm->second[2 * b + 1];
+    }
+  }
   const auto t = a.find("energy.terms");
   const auto sc = a.find("energy.scale");
   // Ten terms, and the refresh's change as an eleventh since 2026-11-30 (a checkpoint from before

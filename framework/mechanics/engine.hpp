@@ -182,6 +182,11 @@ class Engine {
   std::vector<double> inertial_mass_;      // per gridpoint (after mass scaling)
   std::vector<double> previous_mass_;      // the same before the last time-step computation
   bool momentum_rule_ = false;             // the last computation applied the momentum rule
+  // Set by begin_stage (not when resuming): the next time-step computation is a stage's first,
+  // whose masses the stage's own scaling sets, and the momentum rule applies to every gridpoint
+  // and rigid block whatever the damping.
+  bool stage_start_ = false;
+  std::vector<double> previous_block_mass_, previous_block_inertia_;
   std::vector<double> dashpot_;            // per gridpoint: viscous boundaries' dashpots [N s/m per m]
   std::vector<double> block_mass_, block_inertia_;
   std::vector<Vec2> block_contact_force_;  // per block, last step

@@ -14,18 +14,11 @@
 #include "framework/mechanics/engine.hpp"
 #include "framework/mechanics/zones.hpp"
 #include "models/rock/elastic.hpp"
+#include "tests/unit/vibrating_square.hpp"
 
 using namespace rockdem;
 
 namespace {
-
-// A free elastic square of 4 x 4 cells, given an initial velocity field that excites its
-// highest modes (alternating signs), with no load: only damping changes its energy.
-void build(Model& m) {
-  m.materials.push_back(std::make_unique<RockMaterialAdapter<ElasticRock>>(ElasticRock::Params{2500.0, 20e9, 15e9}));
-  add_deformable_block(m, mesh_rectangle(0.0, 0.0, 1.0, 1.0, 4, 4), 0, "square", 0);
-  for (std::size_t i = 0; i < m.gp.size(); ++i) m.gp[i].v = Vec2(i % 2 ? 1e-3 : -1e-3, i % 3 ? 1e-3 : -1e-3);
-}
 
 double kinetic(const Model& m) {
   double e = 0.0;
@@ -47,7 +40,7 @@ TEST(RayleighTimeStep, OneTermGivesTheFractionAtItsFrequency) {
 TEST(RayleighTimeStep, StiffnessTermShortensTheStepByTheClosedForm) {
   for (double beta : {0.0, 1e-6, 1e-4}) {
     Model m;
-    build(m);
+    test::build_vibrating_square(m);
     EngineSettings s;
     Engine e(m, s);
     Damping d;
@@ -75,7 +68,7 @@ TEST(RayleighTimeStep, StiffnessTermShortensTheStepByTheClosedForm) {
 
 TEST(RayleighTimeStep, MassScalingReachesTheRequestedStepWithTheStiffnessTerm) {
   Model m;
-  build(m);
+  test::build_vibrating_square(m);
   EngineSettings s;
   s.mass_scaling_dt = 1e-4;
   Engine e(m, s);
