@@ -175,7 +175,8 @@ class ContactStore {
   int model_for(int group_a, int group_b, int edge_label = -1) const;
 
   // Replace the contact list with `found`, carrying over the law state of contacts whose key
-  // persists and initialising the state of new ones. Returns the number of new contacts.
+  // persists (or whose corner's key passed to its other side: contact_store.cpp) and
+  // initialising the state of new ones. Returns the number of new contacts.
   std::size_t merge(std::vector<Contact>&& found);
 
   // Bytes of state per contact for these joint models: the largest of their states, rounded up
@@ -197,6 +198,9 @@ class ContactStore {
  private:
   ContactIndex index_;
   ContactStates spare_states_;  // the states' storage of the list before the last merge, reused
+  std::vector<std::ptrdiff_t> continues_;  // merge(): per found contact, the old one it continues
+  std::vector<char> claimed_;              // merge(): per old contact, whether one continues it
+  static constexpr double kSamePlane = 0.866;  // cos 30 degrees, as the interfaces' clusters
 };
 
 }  // namespace rockdem

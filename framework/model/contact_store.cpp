@@ -41,13 +41,41 @@ std::size_t ContactStore::merge(std::vector<Contact>&& found) {
   next.reset(state_stride(), found.size());
   // Within both lists' strides (a stage's models may differ from the last's, not their states).
   const std::size_t kept_bytes = std::min(next.stride(), states.stride());
+  // Which old contact each found one continues: the one with its key and joint model; else, for a
+  // corner, the one of its other side against the same block that nothing continues any more, if
+  // it acts along the same plane. A corner's key names the own edge that faces the other block
+  // best, and as the block turns or slides that can pass to the other edge with the point where
+  // it was; starting that contact afresh dropped the stress it carried (3,950 J/m of the drift
+  // study's first earthquake, 3.7 % of its boundary work) and the joint's slip and wear with it.
+  continues_.assign(found.size(), -1);
+  claimed_.assign(items.size(), 0);
+  constexpr std::ptrdiff_t kOtherModel = -2;  // its key goes on, under another joint model
+  for (std::size_t i = 0; i < found.size(); ++i) {
+    const std::ptrdiff_t at = index_.find(items, found[i].key);
+    if (at < 0) continue;
+    claimed_[static_cast<std::size_t>(at)] = 1;
+    continues_[i] = items[static_cast<std::size_t>(at)].joint == found[i].joint ? at : kOtherModel;
+  }
   for (std::size_t i = 0; i < found.size(); ++i) {
     Contact& c = found[i];
-    const std::ptrdiff_t at = index_.find(items, c.key);
-    if (at >= 0 && items[static_cast<std::size_t>(at)].joint == c.joint) {
-      const Contact& old = items[static_cast<std::size_t>(at)];
-      std::memcpy(next.at(i), states.at(static_cast<std::size_t>(at)), kept_bytes);
-      c.response = old.response;
+    if (continues_[i] != -1) continue;
+    ContactKey other_side = c.key;
+    other_side.side = 1 - other_side.side;
+    const std::ptrdiff_t at = index_.find(items, other_side);
+    if (at < 0 || claimed_[static_cast<std::size_t>(at)]) continue;
+    const Contact& old = items[static_cast<std::size_t>(at)];
+    if (old.joint != c.joint || old.normal.dot(c.normal) <= kSamePlane) continue;
+    claimed_[static_cast<std::size_t>(at)] = 1;
+    continues_[i] = at;
+    c.pretouch_gap = old.pretouch_gap;
+    c.pending_closure = old.pending_closure;
+  }
+  for (std::size_t i = 0; i < found.size(); ++i) {
+    Contact& c = found[i];
+    if (continues_[i] >= 0) {
+      const auto at = static_cast<std::size_t>(continues_[i]);
+      std::memcpy(next.at(i), states.at(at), kept_bytes);
+      c.response = items[at].response;
       c.fresh = false;
     } else {
       models[static_cast<std::size_t>(c.joint)]->init(next.at(i));
