@@ -352,7 +352,7 @@ std::size_t detect_contacts(Model& m, const DetectionSettings& s, int threads) {
       // half the detection distance: a corner nested in a shallow concave corner (a vertex of the
       // opening's 24 sides, 15 degrees, in the block wrapped around it) is about as near to both
       // planes, and choosing by the nearer alone switched its contact between them every few
-      // hundred steps, each switch a new key, a fresh law state and a normal turned by 15 degrees:
+      // hundred steps, each switch a new key, then a fresh law state, and a normal turned by 15 degrees:
       // a stage that never settled.
       std::size_t hint = 0;
       const LocalIndex local = m.gp[A.boundary[k]].local;

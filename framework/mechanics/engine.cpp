@@ -317,7 +317,7 @@ void Engine::compute_time_step() {
   // quasi-static stages (local damping) are left alone: their velocities are a device of the
   // relaxation, local damping takes such energy out, and their load paths stay as they were.
   // At a stage's start the rule applies whatever the damping, to gridpoints and rigid blocks
-  // (an excavation maps the masses to the renumbered points): a rest after an earthquake scales
+  // (not at the start of a stage that excavates: its model has other points): a rest after an earthquake scales
   // the masses up a hundredfold (mass_scaling_dt ten times the event's step), and the event's
   // last velocities held under them carried a hundred times the model's kinetic energy into the
   // rest (7,500 J/m in the drift study's first rest, where the event left 78), which the
@@ -347,6 +347,7 @@ void Engine::compute_time_step() {
   previous_block_mass_.swap(block_mass_);
   previous_block_inertia_.swap(block_inertia_);
   const bool same_blocks = stage_start && previous_block_mass_.size() == nb && previous_block_inertia_.size() == nb;
+  momentum_rule_ = momentum_rule_ || same_blocks;
   block_mass_.assign(nb, 0.0);
   block_inertia_.assign(nb, 0.0);
   for_owned_blocks(m_, [&](int bi) {
@@ -363,8 +364,16 @@ void Engine::compute_time_step() {
     if (same_blocks && !B.fixed && B.prescribed == 0) {
       Block& M = m_.blocks[b];
       const double m0 = previous_block_mass_[b], i0 = previous_block_inertia_[b];
-      if (m0 > 0.0 && mass > m0) M.vc *= m0 / mass;
-      if (i0 > 0.0 && inertia > i0) M.omega *= i0 / inertia;
+      const double moved = m0 > 0.0 && mass > m0 ? m0 / mass : 1.0, turned = i0 > 0.0 && inertia > i0 ? i0 / inertia : 1.0;
+      // Its gridpoints' velocities (the chords of the last step, which the contacts' first
+      // increments take) follow: the translation and the turn scaled alike.
+      const Vec2 vc = M.vc;
+      M.vc *= moved;
+      M.omega *= turned;
+      for (int k = B.first_gp; k < B.first_gp + B.n_gp; ++k) {
+        Vec2& v = m_.gp[static_cast<std::size_t>(k)].v;
+        v = M.vc + turned * (v - vc);
+      }
     }
     physical_mass_ += B.mass;
     scaled_mass_ += mass;
