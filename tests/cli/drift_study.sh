@@ -9,9 +9,9 @@
 #    and each return reaches equilibrium unless a block has come loose by its end;
 #  - regression: events.csv against tests/cli/drift/small_events_gold.csv (displacements to
 #    0.2 mm, permeability ratios to 5 %, counts exactly);
-#  - the energy balance over each event: with the contact refreshes' change taken out (the
-#    history component `refresh`, which no force did) it closes within 2 %; the refreshes' own
-#    share stays below 5 % (3.3 % in event 1 when measured, docs/drift-study.md);
+#  - the energy balance over each event closes within 2 % (1.29 % and 0.47 % when measured,
+#    docs/drift-study.md), and within 2 % too with the contact refreshes' change taken out (the
+#    history component `refresh`, which no force did: 1.2 % of the largest term in event 1);
 #  - two processes give the same events.csv, bit for bit;
 #  - no shaking, no motion: with the first event's input taken away the drift's crown moves less
 #    than 0.01 mm over 0.5 s and no block falls.
@@ -44,9 +44,9 @@ rows = {s: (d, scale, closure, without) for s, d, scale, closure, without in sta
 bad = False
 for stage, name in ((3, "event_1"), (5, "event_2")):
     d, scale, closure, without = rows[stage]
-    good = without < 0.02 and abs(d["refresh"]) < 0.05 * scale
-    print(("ok   " if good else "FAIL ") + f"{name}: the energy balance closes to {without:.2%} without the contact "
-          f"refreshes' change ({d['refresh']:.4g} J/m, {abs(d['refresh']) / scale:.2%} of the largest term; {closure:.2%} with it)")
+    good = closure < 0.02 and without < 0.02
+    print(("ok   " if good else "FAIL ") + f"{name}: the energy balance closes to {closure:.2%}, and to {without:.2%} without "
+          f"the contact refreshes' change ({d['refresh']:.4g} J/m, {abs(d['refresh']) / scale:.2%} of the largest term)")
     bad = bad or not good
 sys.exit(1 if bad else 0)
 PY
