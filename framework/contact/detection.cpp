@@ -345,15 +345,15 @@ std::size_t detect_contacts(Model& m, const DetectionSettings& s, int threads) {
     }
     // Both edges of a corner face the other block: two contacts if they meet it along different
     // planes (a corner nested in a concave corner), else the nearer (a blunt corner on a face).
-    if (nf == 2 && out[0].pr.normal.dot(out[1].pr.normal) > 0.866) {
+    if (nf == 2 && out[0].pr.normal.dot(out[1].pr.normal) > kSamePlaneCos) {
       const double d0 = std::abs(out[0].pr.dist), d1 = std::abs(out[1].pr.dist);
       bool second = d1 < d0 || (d1 == d0 && own[1].normal.dot(out[1].pr.normal) < own[0].normal.dot(out[0].pr.normal));
       // The side that already has the contact keeps it unless the other is nearer by more than
       // half the detection distance: a corner nested in a shallow concave corner (a vertex of the
       // opening's 24 sides, 15 degrees, in the block wrapped around it) is about as near to both
       // planes, and choosing by the nearer alone switched its contact between them every few
-      // hundred steps, each switch a new key, then a fresh law state, and a normal turned by 15 degrees:
-      // a stage that never settled.
+      // hundred steps, each switch a new key, then a fresh law state, and a normal turned by 15
+      // degrees: a stage that never settled.
       std::size_t hint = 0;
       const LocalIndex local = m.gp[A.boundary[k]].local;
       const bool held0 = m.contacts.find({A.id, local, B.id, 0}, hint) != nullptr;
@@ -529,7 +529,7 @@ void update_contact_lengths(Model& m, const DetectionSettings& s, int threads) {
     int& head = cb.pairs.at(pk);
     int ci = -1, last = -1;
     for (int k = head; k >= 0; last = k, k = clusters[static_cast<std::size_t>(k)].next)
-      if (clusters[static_cast<std::size_t>(k)].n.dot(n) > 0.866) { ci = k; break; }  // within 30 degrees
+      if (clusters[static_cast<std::size_t>(k)].n.dot(n) > kSamePlaneCos) { ci = k; break; }
     if (ci < 0) {
       ci = static_cast<int>(clusters.size());
       clusters.push_back({n, -1});

@@ -316,12 +316,12 @@ void Engine::compute_time_step() {
   // inside out. A mass that shrinks keeps its velocity (kinetic energy falls). Within a stage,
   // quasi-static stages (local damping) are left alone: their velocities are a device of the
   // relaxation, local damping takes such energy out, and their load paths stay as they were.
-  // At a stage's start the rule applies whatever the damping, to gridpoints and rigid blocks
-  // (not at the start of a stage that excavates: its model has other points): a rest after an earthquake scales
-  // the masses up a hundredfold (mass_scaling_dt ten times the event's step), and the event's
-  // last velocities held under them carried a hundred times the model's kinetic energy into the
-  // rest (7,500 J/m in the drift study's first rest, where the event left 78), which the
-  // relaxation spent in joint slip (306 J/m) and local damping.
+  // At a stage's start the rule applies whatever the damping, to gridpoints and rigid blocks (not
+  // at the start of a stage that excavates: its model has other points): a rest after an
+  // earthquake scales the masses up a hundredfold (mass_scaling_dt ten times the event's step),
+  // and the event's last velocities held under them carried a hundred times the model's kinetic
+  // energy into the rest (7,500 J/m in the drift study's first rest, where the event left 78),
+  // which the relaxation spent in joint slip (306 J/m) and local damping.
   previous_mass_.swap(inertial_mass_);
   const bool stage_start = std::exchange(stage_start_, false);
   const bool same_points = previous_mass_.size() == m_.gp.size() && (stage_start || damping_.kind != Damping::Kind::local);

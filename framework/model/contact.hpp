@@ -23,6 +23,11 @@
 
 namespace rockdem {
 
+// Two contact normals within 30 degrees (cosine above this) act along one plane: one interface's
+// cluster, one contact of a corner that faces a block along both its edges, and the same contact
+// when a corner's key passes to its other side (detection.cpp, ContactStore::merge).
+inline constexpr double kSamePlaneCos = 0.866;
+
 struct ContactKey {
   BlockId point_block{};
   LocalIndex point_local = 0;
@@ -200,7 +205,6 @@ class ContactStore {
   ContactStates spare_states_;  // the states' storage of the list before the last merge, reused
   std::vector<std::ptrdiff_t> continues_;  // merge(): per found contact, the old one it continues
   std::vector<char> claimed_;              // merge(): per old contact, whether one continues it
-  static constexpr double kSamePlane = 0.866;  // cos 30 degrees, as the interfaces' clusters
 };
 
 }  // namespace rockdem

@@ -64,7 +64,7 @@ std::size_t ContactStore::merge(std::vector<Contact>&& found) {
     const std::ptrdiff_t at = index_.find(items, other_side);
     if (at < 0 || claimed_[static_cast<std::size_t>(at)]) continue;
     const Contact& old = items[static_cast<std::size_t>(at)];
-    if (old.joint != c.joint || old.normal.dot(c.normal) <= kSamePlane) continue;
+    if (old.joint != c.joint || old.normal.dot(c.normal) <= kSamePlaneCos) continue;
     claimed_[static_cast<std::size_t>(at)] = 1;
     continues_[i] = at;
     c.pretouch_gap = old.pretouch_gap;

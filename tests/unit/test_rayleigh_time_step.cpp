@@ -10,10 +10,7 @@
 #include <numbers>
 
 #include "framework/core/error.hpp"
-#include "framework/io/case.hpp"
 #include "framework/mechanics/engine.hpp"
-#include "framework/mechanics/zones.hpp"
-#include "models/rock/elastic.hpp"
 #include "tests/unit/vibrating_square.hpp"
 
 using namespace rockdem;
