@@ -10,6 +10,7 @@
 
 #include "framework/core/error.hpp"
 #include "framework/core/threads.hpp"
+#include "framework/mechanics/rigid_chord.hpp"
 #include "framework/mechanics/zones.hpp"
 #include "framework/plugin_api/rock_material.hpp"
 
@@ -711,22 +712,18 @@ void Engine::step() {
     double fastest = 0.0;
     if (!b.rigid) return fastest;
     b.xc += b.vc * dt_;
-    const double turn = b.omega * dt_;
-    b.theta += turn;
+    b.theta += b.omega * dt_;
     const double c = std::cos(b.theta), s = std::sin(b.theta);
-    // A gridpoint's velocity is its chord over the step, (x(n+1) - x(n)) / dt, as a deformable
-    // block's is: the contacts take their increments from it. The tangent velocity at the new
-    // position, vc + omega perp(r), leaves out the chord's part along the arm, (omega dt)^2 r / 2
-    // per step and always outward, so that pre-stressed joints between blocks that turn drifted
-    // from their geometry and lost energy (docs/engine.md, time integration). With r the new arm,
-    // r(n) = R(-turn) r and r - r(n) = sin(turn) perp(r) + (1 - cos(turn)) r.
-    const double half = std::sin(0.5 * turn), across = std::sin(turn) / dt_, outward = 2.0 * half * half / dt_;
+    // A gridpoint's velocity is its chord over the step (rigid_chord.hpp): the contacts take their
+    // increments from it, and the tangent left pre-stressed joints between turning blocks drifting
+    // from their geometry.
+    const RigidChord chord(b.omega, dt_);
     for (int k = 0; k < b.n_gp; ++k) {
       GridPoint& g = m_.gp[b.first_gp + k];
       const Vec2& r0 = b.rest_offsets[k];
       const Vec2 r(c * r0.x() - s * r0.y(), s * r0.x() + c * r0.y());
       g.x = b.xc + r;
-      g.v = b.vc + across * perp(r) + outward * r;
+      g.v = chord.velocity(b.vc, r);
       fastest = std::max(fastest, g.v.squaredNorm());
     }
     return fastest;

@@ -7,7 +7,9 @@
 #include <limits>
 
 #include "framework/geometry/polygon.hpp"
+#include "framework/mechanics/engine.hpp"
 #include "framework/mechanics/history_quantities.hpp"
+#include "framework/mechanics/rigid_chord.hpp"
 
 namespace rockdem {
 namespace {
@@ -82,7 +84,7 @@ const Block* rigid_block_at(const Model& m, const Vec2& p) {
 
 // The displacement (or velocity) of the material point that started at `at`: interpolated in the
 // zone containing it, or that of the rigid block's point.
-double motion_at(const Model& m, const HistoryTarget& t, bool velocity) {
+double motion_at(const Model& m, const Engine& e, const HistoryTarget& t, bool velocity) {
   std::array<double, 3> w{};
   const Zone* z = zone_at(m, t.at, w);
   if (!z) {
@@ -91,7 +93,8 @@ double motion_at(const Model& m, const HistoryTarget& t, bool velocity) {
     const Vec2 r0 = t.at - b->xc0;
     const double c = std::cos(b->theta), s = std::sin(b->theta);
     const Vec2 r(c * r0.x() - s * r0.y(), s * r0.x() + c * r0.y());
-    const Vec2 u = velocity ? Vec2(b->vc + b->omega * perp(r)) : Vec2(b->xc - b->xc0 + r - r0);
+    // The velocity the engine gives the block's gridpoints: the chord of the last step.
+    const Vec2 u = velocity ? RigidChord(b->omega, e.dt()).velocity(b->vc, r) : Vec2(b->xc - b->xc0 + r - r0);
     return u[t.component];
   }
   double u = 0.0;
@@ -102,8 +105,8 @@ double motion_at(const Model& m, const HistoryTarget& t, bool velocity) {
   return u;
 }
 
-double displacement_at(const Model& m, const Engine&, const HistoryTarget& t) { return motion_at(m, t, false); }
-double velocity_at(const Model& m, const Engine&, const HistoryTarget& t) { return motion_at(m, t, true); }
+double displacement_at(const Model& m, const Engine& e, const HistoryTarget& t) { return motion_at(m, e, t, false); }
+double velocity_at(const Model& m, const Engine& e, const HistoryTarget& t) { return motion_at(m, e, t, true); }
 
 HistoryQuantity by_location(std::string name, std::string unit, std::string description, std::vector<std::string> comps,
                             std::function<double(const Model&, const Engine&, const HistoryTarget&)> f, bool segment,
@@ -135,7 +138,7 @@ const HistoryQuantityRegistrar displacement_at_q{by_location(
     "displacement_at", "m", "displacement of the material point that started at `at` (interpolated in the zone containing it, or of the rigid block containing it), x or y", {"x", "y"},
     displacement_at, false, 0)};
 const HistoryQuantityRegistrar velocity_at_q{by_location(
-    "velocity_at", "m/s", "velocity of the material point that started at `at` (interpolated in the zone containing it, or of the rigid block containing it; the half-step velocity), x or y", {"x", "y"},
+    "velocity_at", "m/s", "velocity of the material point that started at `at` (interpolated in the zone containing it, or of the rigid block containing it, whose points move by their chord; the velocity of the last step), x or y", {"x", "y"},
     velocity_at, false, 0)};
 
 }  // namespace
