@@ -20,6 +20,7 @@
 #include "framework/app/result_files.hpp"
 #include "framework/app/plot_scripts.hpp"
 #include "framework/parallel/mpi_communication.hpp"
+#include "framework/parallel/mpi_env.hpp"
 #include "framework/simulation/run_case.hpp"
 #include "framework/app/cli_contract.hpp"
 #include "framework/core/error.hpp"
@@ -382,6 +383,7 @@ const CommandRegistrar reg{Command{
         if (!checkpoint_every->empty()) read_checkpoint_interval(*checkpoint_every, "--checkpoint-every", c.output);
         c.settings.threads = *threads;
         c.settings.imbalance_limit = *imbalance;
+        c.output.updating_line = !launched_by_mpi();
         if (comm.root()) {
           // Threads beyond the cores this process may use take turns on them: worse than one.
           const int cores = usable_cores();

@@ -103,6 +103,11 @@ struct OutputSpec {
   long history_interval = 100;  // steps between history samples
   long vtk_interval = 0;        // steps between VTK frames (0: automatic, about 25 per stage)
   double progress_seconds = 2.0;
+  // Not a case key: whether progress may update one line in place when the output is a terminal.
+  // `rockdem run` turns it off under an MPI launcher, whose output forwarding gives every process
+  // a pseudo-terminal whatever mpirun's own output is, so that a log would fill with carriage
+  // returns and erase codes.
+  bool updating_line = true;
   // Checkpoints within stages (checkpoint_step_<n>.h5), at the first contact detection after
   // every checkpoint_steps steps of the run or checkpoint_seconds of wall-clock time ([output]
   // checkpoint_every = "N steps" or "30 min"; 0: none); the newest checkpoint_keep of them are

@@ -4,6 +4,10 @@
 // the other commands run on process 0 while the others wait without spinning.
 namespace rockdem {
 
+// Started by mpirun/mpiexec (Open MPI, or a PMI/PMIx launcher such as srun), from the
+// environment the launcher sets; any process count, one included.
+bool launched_by_mpi();
+
 class MpiEnvironment {
  public:
   MpiEnvironment(int& argc, char**& argv);

@@ -246,11 +246,11 @@ std::size_t read_restart(Case& c, const std::string& restart, std::optional<Stag
 
 // Progress output (none when quiet). Every line goes straight to std::cout in the order of the
 // run: a step line leaves the stream's precision set for the lines after it, as it always has.
-// On a terminal the step lines overwrite each other (one line that updates); in a pipe or a file
-// each is a line of its own, for logs and scripts.
+// On a terminal the step lines overwrite each other (one line that updates); in a pipe or a file,
+// and under mpirun (OutputSpec::updating_line), each is a line of its own, for logs and scripts.
 class Progress {
  public:
-  Progress(const Case& c, bool quiet) : c_(c), quiet_(quiet), terminal_(isatty(fileno(stdout)) != 0) {}
+  Progress(const Case& c, bool quiet) : c_(c), quiet_(quiet), terminal_(c.output.updating_line && isatty(fileno(stdout)) != 0) {}
   bool quiet() const { return quiet_; }
 
   // Ends an updating step line, so that what follows starts on a line of its own.

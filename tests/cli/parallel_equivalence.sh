@@ -185,6 +185,17 @@ if grep -q '^damping = "local"' "$tmp/collapse_local.toml" &&
    r=$(compare "$tmp/collapse_local-1" "$tmp/collapse_local-3"); then
   echo "ok   under local damping, blocks change owner on 3 processes ($(grep -c '^step [0-9]*: .*moved' "$tmp/collapse_local-3.log") changes): $r"
 else echo "FAIL blocks changing owner under local damping: ${r:-}"; fail=1; fi
+# Progress under mpirun: Open MPI gives each process a pseudo-terminal whatever mpirun's own
+# output is, so a log must not take the line that updates in place (carriage returns and erase
+# codes); each progress line is a line of its own.
+sed 's/^\[output\]$/[output]\nprogress_seconds = "0.5 s"/' "$src/tests/cli/parallel/collapse.toml" > "$tmp/progress.toml"
+if grep -q '^progress_seconds' "$tmp/progress.toml" &&
+   timeout 600 mpirun -np 2 "$bin" run "$tmp/progress.toml" --out "$tmp/progress" --no-plots >"$tmp/progress.log" 2>&1; then
+  lines=$(grep -c '^  [^ ].* step [0-9]* *t = ' "$tmp/progress.log")
+  if [ "$lines" -ge 2 ] && ! grep -q $'\r\|\x1b' "$tmp/progress.log"; then echo "ok   progress under mpirun: $lines lines, no carriage return or escape code"
+  else echo "FAIL progress under mpirun: $lines progress lines; carriage returns or escape codes: $(grep -c $'\r\|\x1b' "$tmp/progress.log")"; fail=1; fi
+else echo "FAIL progress run under mpirun: exit $?"; tail -5 "$tmp/progress.log"; fail=1; fi
+
 . "$src/tests/cli/lib/expect.sh"
 for bad in 0.5 two 101 1.2x; do
   expect "--imbalance-limit $bad" 2 run "$src/tests/cli/parallel/collapse.toml" --imbalance-limit "$bad" --out "$tmp/bad-limit" --quiet -- \
