@@ -698,6 +698,7 @@ void Engine::step() {
   // Positions from the final half-step velocities (prescribed ones included).
   // (The largest speed is the same whichever thread finds it.)
   double speed2 = 0.0;
+  moved_dt_ = dt_;
   auto move_gridpoint = [&](std::ptrdiff_t i) {
     GridPoint& g = m_.gp[static_cast<std::size_t>(i)];
     if (m_.blocks[g.block].rigid) return 0.0;

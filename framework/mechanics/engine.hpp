@@ -64,6 +64,9 @@ class Engine {
   void run_steps(long n, bool check_at_end = true);
 
   double dt() const { return dt_; }
+  // The step the last step moved the points by: dt() may have changed since, at the contact
+  // refresh that ends a step (0 before the first step of this run).
+  double moved_dt() const { return moved_dt_; }
   // The inertial mass mass scaling added, as a fraction of the model's mass, at the last refresh
   // (0 without scaling). Dynamic stages that scale the masses of their smallest zones say it.
   double added_mass_fraction() const { return physical_mass_ > 0.0 ? scaled_mass_ / physical_mass_ - 1.0 : 0.0; }
@@ -170,6 +173,7 @@ class Engine {
   std::string stage_;
   double stage_time_ = 0.0;
   double dt_ = 0.0;
+  double moved_dt_ = 0.0;
   double critical_dt_ = 0.0;  // stable step before dt_safety, at the last refresh
   double physical_mass_ = 0.0, scaled_mass_ = 0.0;  // the whole model's, at the last refresh [kg/m]
   double ratio_ = 0.0;

@@ -93,8 +93,9 @@ double motion_at(const Model& m, const Engine& e, const HistoryTarget& t, bool v
     const Vec2 r0 = t.at - b->xc0;
     const double c = std::cos(b->theta), s = std::sin(b->theta);
     const Vec2 r(c * r0.x() - s * r0.y(), s * r0.x() + c * r0.y());
-    // The velocity the engine gives the block's gridpoints: the chord of the last step.
-    const Vec2 u = velocity ? RigidChord(b->omega, e.dt()).velocity(b->vc, r) : Vec2(b->xc - b->xc0 + r - r0);
+    // The velocity the engine gives the block's gridpoints: the chord of the last step, over the
+    // step that moved them (the refresh ending a step may have changed dt() since).
+    const Vec2 u = velocity ? RigidChord(b->omega, e.moved_dt()).velocity(b->vc, r) : Vec2(b->xc - b->xc0 + r - r0);
     return u[t.component];
   }
   double u = 0.0;
