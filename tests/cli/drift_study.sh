@@ -5,6 +5,8 @@
 #  - the rock mass rides the ground: the base's displacement over each event is the incident
 #    wave's residual displacement, half the outcrop record's (within 5 %), and the results' frame
 #    moves with it;
+#  - no event turns the model as a whole (the frame by less than 1e-4 rad; 2.15 mrad while the
+#    free-field columns' tops were free);
 #  - the returns to equilibrium move nothing of the frame (below 1 mm);
 #  - both events and the returns after them stay below 20 m/s everywhere (the max_speed history),
 #    and each return reaches equilibrium unless a block has come loose by its end;
@@ -13,7 +15,9 @@
 #  - the energy balance over each event closes within 2 % (0.05 % and 1.56 % when measured,
 #    docs/drift-study.md), and the change the contact refreshes make to the stored energy with
 #    no force doing it (the history component `refresh`) stays below 5 % of the largest term
-#    (0.66 % and 4.1 %: mostly loaded contacts dropped where their point keeps another);
+#    (0.66 % and 4.1 %: mostly loaded contacts dropped where their point keeps another). The
+#    margins are small: event 2 would close to 5.7 % without that change, which offsets energy
+#    created elsewhere (docs/drift-study.md, "Not done yet");
 #  - two processes give the same events.csv, bit for bit;
 #  - no shaking, no motion: with the first event's input taken away the drift's crown moves less
 #    than 0.01 mm over 0.5 s and no block falls.
@@ -72,8 +76,10 @@ check([r["kind"] for r in ev] == ["reference", "event", "rest", "event", "rest"]
 # displacement (with the columns' tops free it took the whole of it, and the model turned).
 for n, stage, before in ((3, "event_1", "stage_2_excavate"), (5, "event_2", "stage_4_rest_1")):
     lines = open(f"{out}/motion_{n}_{stage}.csv").readlines()
-    check("type: outcrop" in lines[1], f"{stage}: the motion is an outcrop motion")
-    residual = 0.5 * float([l for l in lines if not l.startswith("#")][-1].split(",")[3])
+    described = [l for l in lines if l.startswith("# motion:")]
+    check(len(described) == 1 and "| type: outcrop |" in described[0], f"{stage}: one motion, an outcrop motion")
+    header = [l for l in lines if not l.startswith("#")][0].strip().split(",")
+    residual = 0.5 * float([l for l in lines if not l.startswith("#")][-1].split(",")[header.index("elcentro_disp_m")])
     with h5py.File(f"{out}/{before}.h5", "r") as a, h5py.File(f"{out}/stage_{n}_{stage}.h5", "r") as b:
         x0 = a["gridpoints/x0"][:]
         base = np.abs(x0[:, 1] + 15) < 1e-3
