@@ -78,8 +78,8 @@ for n, stage, before in ((3, "event_1", "stage_2_excavate"), (5, "event_2", "sta
     lines = open(f"{out}/motion_{n}_{stage}.csv").readlines()
     described = [l for l in lines if l.startswith("# motion:")]
     check(len(described) == 1 and "| type: outcrop |" in described[0], f"{stage}: one motion, an outcrop motion")
-    header = [l for l in lines if not l.startswith("#")][0].strip().split(",")
-    residual = 0.5 * float([l for l in lines if not l.startswith("#")][-1].split(",")[header.index("elcentro_disp_m")])
+    data = [l.strip().split(",") for l in lines if not l.startswith("#")]
+    residual = 0.5 * float(data[-1][data[0].index("elcentro_disp_m")])
     with h5py.File(f"{out}/{before}.h5", "r") as a, h5py.File(f"{out}/stage_{n}_{stage}.h5", "r") as b:
         x0 = a["gridpoints/x0"][:]
         base = np.abs(x0[:, 1] + 15) < 1e-3
