@@ -1,6 +1,6 @@
 #pragma once
 // Case-file text and placement helpers for the contact-geometry checks that build blocks of any
-// outline (test_corner_readings.cpp, test_deep_contacts.cpp). Blocks may not overlap in a case
+// outline (test_corner_readings.cpp, test_deep_contacts.cpp, test_held_contacts.cpp). Blocks may not overlap in a case
 // file, so a check that needs a point pressed into a face moves the block after parsing.
 #include <cstddef>
 #include <sstream>
@@ -33,6 +33,12 @@ inline const Block& block(const Case& c, const std::string& name) {
 inline void translate(Case& c, const std::string& name, const Vec2& by) {
   const Block& b = block(c, name);
   for (int i = b.first_gp; i < b.first_gp + b.n_gp; ++i) c.model.gp[static_cast<std::size_t>(i)].x += by;
+}
+
+// Moves block `name` so that its boundary point `local` is at `to`.
+inline void place(Case& c, const std::string& name, int local, const Vec2& to) {
+  const Block& b = block(c, name);
+  translate(c, name, to - c.model.gp[static_cast<std::size_t>(b.boundary[static_cast<std::size_t>(local)])].x);
 }
 
 }  // namespace rockdem::polygon_case

@@ -25,6 +25,7 @@
 
 using namespace rockdem;
 using polygon_case::block;
+using polygon_case::place;
 
 namespace {
 
@@ -33,12 +34,6 @@ const std::string kHeader =
     "title = \"corner readings\"\n[model]\nrounding = \"1 mm\"\ndetection_tolerance = \"1 mm\"\n"
     "[[joints]]\nname = \"j\"\nlaw = \"coulomb_slip\"\nbetween = [\"*\", \"*\"]\nkn = \"10 GPa/m\"\nks = \"10 GPa/m\"\n"
     "friction = \"30 deg\"\n";
-
-// Moves block `name` so that its boundary point `local` is at `to`.
-void place(Case& c, const std::string& name, int local, const Vec2& to) {
-  const Block& b = block(c, name);
-  polygon_case::translate(c, name, to - c.model.gp[static_cast<std::size_t>(b.boundary[static_cast<std::size_t>(local)])].x);
-}
 
 // The contacts of block a's boundary point `local` on block b.
 std::vector<const Contact*> contacts_of(const Case& c, const std::string& a, int local, const std::string& b) {
