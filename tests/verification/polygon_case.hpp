@@ -1,7 +1,8 @@
 #pragma once
 // Case-file text and placement helpers for the contact-geometry checks that build blocks of any
-// outline (test_corner_readings.cpp, test_deep_contacts.cpp, test_held_contacts.cpp). Blocks may not overlap in a case
-// file, so a check that needs a point pressed into a face moves the block after parsing.
+// outline (test_corner_readings.cpp, test_deep_contacts.cpp, test_held_contacts.cpp). Blocks may
+// not overlap in a case file, so a check that needs a point pressed into a face moves the block
+// after parsing.
 #include <cstddef>
 #include <sstream>
 #include <string>
