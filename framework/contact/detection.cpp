@@ -341,7 +341,8 @@ bool band_interval(const Vec2& a, const Vec2& b, const Vec2& p, const Vec2& n, c
 // one edge to the other with micrometres of motion: in the drift study's first earthquake a few
 // such corners changed model at almost every detection, each change starting the law afresh (a
 // bridge at 23 MPa shear dropped to nothing, then rebuilt intact, cohesion and all): 8.6 kJ/m of
-// stored energy lost by t = 2.1 s, 4 % of the event's boundary work.
+// stored energy lost by t = 2.1 s, the event's first second. An edge shorter than 2d whose two
+// neighbours both have the contact's model never gives a closed contact its own model.
 bool keeps_model_at_vertex(const Model& m, const Block& A, const Block& B, const BoundaryEdge* gb, const Vec2& p, int e,
                            int old_model) {
   const double d = m.contacts.rounding;

@@ -95,11 +95,16 @@ TEST(HeldContacts, CornerAtACrossingKeepsItsFacePastTheEdgesEnd) {
   c.model.contacts.take();
   detect_contacts(c.model, c.settings.detection);
   EXPECT_EQ(c.model.contacts.find(key), nullptr) << "a new contact on a face the corner's edge does not share";
-  // Nor is a held one kept beyond the detection distance (2 mm) past the edge's end.
+  // A held one is kept 1.5 mm past the edge's end, within the detection distance (2 mm) ...
   place(c, "upper", 0, Vec2(-0.0001, -0.0003));
   detect_contacts(c.model, c.settings.detection);
   ASSERT_NE(c.model.contacts.find(key), nullptr);
   load(*const_cast<Contact*>(c.model.contacts.find(key)), 6e6, 1.5e6);
+  place(c, "upper", 0, Vec2(0.0015, -0.0003));
+  detect_contacts(c.model, c.settings.detection);
+  ASSERT_NE(c.model.contacts.find(key), nullptr) << "dropped 1.5 mm past the end of the face";
+  EXPECT_EQ(c.model.contacts.find(key)->response.sigma_n, 6e6);
+  // ... and not beyond it.
   place(c, "upper", 0, Vec2(0.0025, -0.0003));
   detect_contacts(c.model, c.settings.detection);
   EXPECT_EQ(c.model.contacts.find(key), nullptr) << "kept 2.5 mm past the end of the face";
@@ -114,13 +119,16 @@ TEST(HeldContacts, JointModelKeptAtTheVertexWhereAJointBecomesABridge) {
                               polygon_case::rigid_block("sq", {{2, 2}, {2.1, 2}, {2.1, 2.1}, {2, 2.1}}) + polygon_case::kOneStep,
                           "bridge_end", ".");
   const int joint = model_index(c, "j"), glue = model_index(c, "glue");
-  // Label the falling edge (base's edge 2) a bridge, assigned to "glue"; the others carry no label
-  // and take the first model between any groups, "j".
+  // Label the falling edge (base's edge 2) a bridge, assigned to "glue", and the base's right side
+  // (edge 1, which meets edge 2 at its other end) too, so that only the edge across the vertex
+  // has the other model; the others carry no label and take the first model between any groups,
+  // "j".
   ContactStore& store = c.model.contacts;
   store.edge_labels = {EdgeLabel{"set", true}};
   store.assignments.insert(store.assignments.begin(), JointAssignment{-1, -1, glue, {0}});
   Block& base = c.model.blocks[static_cast<std::size_t>(c.block_index("base", "test"))];
   base.edge_joint.assign(base.boundary.size(), -1);
+  base.edge_joint[1] = 0;
   base.edge_joint[2] = 0;
   const auto at = [&](double x) {
     place(c, "sq", 0, Vec2(x, (x < 0.0 ? 0.0 : -x * t) - 0.0003));
@@ -153,4 +161,19 @@ TEST(HeldContacts, JointModelKeptAtTheVertexWhereAJointBecomesABridge) {
   ASSERT_NE(beyond, nullptr);
   EXPECT_EQ(beyond->joint, glue);
   EXPECT_TRUE(beyond->fresh);
+  // The other way: a closed contact on the bridge moved onto the joint's edge, within the rounding
+  // length of the vertex (where that edge starts), keeps the bridge's model; beyond it, the joint's.
+  c.model.contacts.take();
+  Contact* on_bridge = at(0.0002);
+  ASSERT_NE(on_bridge, nullptr);
+  ASSERT_EQ(on_bridge->joint, glue);
+  load(*on_bridge, 4e6, 1e6);
+  Contact* back = at(-0.0005);
+  ASSERT_NE(back, nullptr);
+  EXPECT_EQ(back->joint, glue);
+  EXPECT_EQ(back->response.sigma_n, 4e6);
+  Contact* past = at(-0.0015);
+  ASSERT_NE(past, nullptr);
+  EXPECT_EQ(past->joint, joint);
+  EXPECT_TRUE(past->fresh);
 }
