@@ -42,4 +42,13 @@ inline void place(Case& c, const std::string& name, int local, const Vec2& to) {
   translate(c, name, to - c.model.gp[static_cast<std::size_t>(b.boundary[static_cast<std::size_t>(local)])].x);
 }
 
+// The contacts of block a's boundary point `local` on block b.
+inline std::vector<Contact*> contacts_of(Case& c, const std::string& a, int local, const std::string& b) {
+  const BlockId ia = block(c, a).id, ib = block(c, b).id;
+  std::vector<Contact*> out;
+  for (Contact& k : c.model.contacts.items)
+    if (k.key.point_block == ia && k.key.point_local == local && k.key.other_block == ib) out.push_back(&k);
+  return out;
+}
+
 }  // namespace rockdem::polygon_case

@@ -25,6 +25,7 @@
 
 using namespace rockdem;
 using polygon_case::block;
+using polygon_case::contacts_of;
 using polygon_case::place;
 
 namespace {
@@ -34,15 +35,6 @@ const std::string kHeader =
     "title = \"corner readings\"\n[model]\nrounding = \"1 mm\"\ndetection_tolerance = \"1 mm\"\n"
     "[[joints]]\nname = \"j\"\nlaw = \"coulomb_slip\"\nbetween = [\"*\", \"*\"]\nkn = \"10 GPa/m\"\nks = \"10 GPa/m\"\n"
     "friction = \"30 deg\"\n";
-
-// The contacts of block a's boundary point `local` on block b.
-std::vector<const Contact*> contacts_of(const Case& c, const std::string& a, int local, const std::string& b) {
-  const BlockId ia = block(c, a).id, ib = block(c, b).id;
-  std::vector<const Contact*> out;
-  for (const Contact& k : c.model.contacts.items)
-    if (k.key.point_block == ia && k.key.point_local == local && k.key.other_block == ib) out.push_back(&k);
-  return out;
-}
 
 double degrees(const Vec2& a, const Vec2& b) { return std::atan2(cross(a, b), a.dot(b)) * 180.0 / std::numbers::pi; }
 

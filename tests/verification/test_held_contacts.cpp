@@ -22,6 +22,7 @@
 
 using namespace rockdem;
 using polygon_case::block;
+using polygon_case::contacts_of;
 using polygon_case::place;
 
 namespace {
@@ -33,14 +34,6 @@ const std::string kHeader =
     "friction = \"30 deg\"\n"
     "[[joints]]\nname = \"glue\"\nlaw = \"coulomb_slip\"\nbetween = [\"*\", \"*\"]\nkn = \"100 GPa/m\"\nks = \"100 GPa/m\"\n"
     "friction = \"50 deg\"\ncohesion = \"20 MPa\"\ntension = \"10 MPa\"\n";
-
-std::vector<Contact*> contacts_of(Case& c, const std::string& a, int local, const std::string& b) {
-  const BlockId ia = block(c, a).id, ib = block(c, b).id;
-  std::vector<Contact*> out;
-  for (Contact& k : c.model.contacts.items)
-    if (k.key.point_block == ia && k.key.point_local == local && k.key.other_block == ib) out.push_back(&k);
-  return out;
-}
 
 // As the engine leaves a contact that has closed and carries load: no longer fresh, closed, with
 // these stresses.
