@@ -201,7 +201,7 @@ def main():
     plt.close(fig)
 
     # Summary table.
-    cols = ["max_slip_near_m", "fallen_blocks", "fallen_area_m2", "loosened_extent_m", "k_xx_ratio", "k_yy_ratio",
+    cols = ["max_slip_near_m", "fallen_blocks", "fallen_area_m2", "loosened_extent_m", "loosened_contacts", "k_xx_ratio", "k_yy_ratio",
             "vertical_convergence_m", "horizontal_convergence_m", "max_speed_m_s"]
     with open(os.path.join(out, "summary.csv"), "w", newline="") as f:
         w = csv.writer(f, lineterminator="\n")

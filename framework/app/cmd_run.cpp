@@ -31,6 +31,7 @@
 #include "framework/io/output_folder.hpp"
 #include "framework/io/toml_values.hpp"
 #include "framework/core/params.hpp"
+#include "framework/core/units.hpp"
 #include "framework/io/block_inspection.hpp"
 #include "framework/lab/direct_shear_specimen.hpp"
 #include "framework/lab/lab_case.hpp"
@@ -258,6 +259,16 @@ const CommandRegistrar reg{Command{
       sub.add_option("--excavate", *excavations,
                      "STAGE=NAME,...: the case's stage STAGE excavates these blocks or groups instead of its own excavate list "
                      "(STAGE= for none), e.g. an overbreak chosen for another realisation (--seed); repeatable");
+      auto motions = std::make_shared<std::vector<std::string>>();
+      sub.add_option("--motion", *motions,
+                     "[STAGE=]NAME[,NAME]: the earthquake stage STAGE plays this [[motions]] entry (two: horizontal and "
+                     "vertical) instead of its own; without STAGE= every stage that plays a motion does, e.g. --motion "
+                     "northridge; repeatable");
+      auto pgvs = std::make_shared<std::vector<std::string>>();
+      sub.add_option("--pgv", *pgvs,
+                     "[STAGE=]VALUE: the earthquake stage STAGE plays its motion scaled to this peak ground velocity, e.g. "
+                     "--pgv event_2=\"1 m/s\" (replaces its motion_scale, pga or pgv); without STAGE= every stage that plays "
+                     "a motion; repeatable");
       auto seed = std::make_shared<std::string>();
       sub.add_option("--seed", *seed,
                      "rock-mass cases: draw the joint sets with this seed instead of the case's [rock_mass] seed (another "
@@ -284,7 +295,7 @@ const CommandRegistrar reg{Command{
               "FACTOR"))
           ->capture_default_str();
       return [file, out, use_default, quiet, no_plots, overwrite, restart, velocity, mass_dt, nstages, write_case,
-              write_blocks, joints, checkpoint_every, threads, imbalance, seed, excavations]() -> int {
+              write_blocks, joints, checkpoint_every, threads, imbalance, seed, excavations, motions, pgvs]() -> int {
         // Under mpirun every process runs the case (its share of the blocks); process 0 writes.
         const std::unique_ptr<Communication> parallel = make_communication();
         Communication& comm = parallel ? *parallel : serial_communication();
@@ -341,6 +352,50 @@ const CommandRegistrar reg{Command{
         if (!overrides.excavate.empty() && (lab || *use_default))
           throw InputError("rockdem run: --excavate applies to DEM case files with [[stages]] (a laboratory-test case "
                            "excavates nothing)");
+        // [STAGE=]REST: the stage ("" for every stage that plays a motion) and the rest.
+        auto stage_and_value = [](const std::string& a) -> std::pair<std::string, std::string> {
+          const auto eq = a.find('=');
+          if (eq == std::string::npos) return {"", a};
+          return {a.substr(0, eq), a.substr(eq + 1)};
+        };
+        for (const auto& a : *motions) {
+          auto [stage, list] = stage_and_value(a);
+          if (a.find('=') == 0) throw InputError("--motion " + a + ": write [STAGE=]NAME, e.g. --motion event_2=northridge");
+          std::vector<std::string> names;
+          for (std::size_t at = 0; at <= list.size();) {
+            const std::size_t comma = std::min(list.find(',', at), list.size());
+            if (comma == at)
+              throw InputError("--motion " + a + ": an empty motion name; write [STAGE=]NAME or [STAGE=]H,V (names of the "
+                               "case's [[motions]] entries)");
+            names.push_back(list.substr(at, comma - at));
+            at = comma + 1;
+          }
+          if (names.size() > 2)
+            throw InputError("--motion " + a + ": a stage plays one motion, or two (horizontal, vertical), not " +
+                             std::to_string(names.size()));
+          if (!overrides.motion.emplace(stage, std::move(names)).second)
+            throw InputError("--motion " + a + ": " + (stage.empty() ? std::string("every stage is given a motion twice (once without STAGE=; "
+                                                       "STAGE=... for one stage)")
+                                           : "stage '" + stage + "' is given a motion twice"));
+        }
+        for (const auto& a : *pgvs) {
+          auto [stage, value] = stage_and_value(a);
+          if (a.find('=') == 0) throw InputError("--pgv " + a + ": write [STAGE=]VALUE, e.g. --pgv event_2=\"1 m/s\"");
+          double v = 0.0;
+          try {
+            v = parse_quantity(value, Dimension::velocity);
+          } catch (const InputError& e) {
+            throw InputError("--pgv " + a + ": " + e.what() + " (a peak ground velocity, e.g. \"0.5 m/s\")");
+          }
+          if (!(v > 0.0)) throw InputError("--pgv " + a + ": the peak ground velocity must be above zero");
+          if (!overrides.pgv.emplace(stage, value).second)
+            throw InputError("--pgv " + a + ": " + (stage.empty() ? std::string("every stage is given a peak ground velocity twice (once without STAGE=; "
+                                                       "STAGE=... for one stage)")
+                                           : "stage '" + stage + "' is given a peak ground velocity twice"));
+        }
+        if ((!overrides.motion.empty() || !overrides.pgv.empty()) && (lab || *use_default))
+          throw InputError("rockdem run: --motion and --pgv apply to DEM case files whose [[stages]] play [[motions]] (a "
+                           "laboratory-test case is driven by its [[stage]] tables)");
         if (!seed->empty()) {
           std::int64_t n = -1;
           const char* end = seed->data() + seed->size();

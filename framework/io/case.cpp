@@ -120,6 +120,84 @@ Case build(const toml::table& root, const CaseReader& r, const std::map<std::str
   return c;
 }
 
+// The [[stages]] entry called `stage`, or an InputError for `option` (the command line's words)
+// that lists the stages of the case file `file`.
+toml::table* named_stage(toml::table& root, const std::string& stage, const std::string& option, const std::string& file) {
+  std::vector<std::string> stages;
+  toml::table* found = nullptr;
+  if (toml::array* list = root["stages"].as_array())
+    for (toml::node& n : *list)
+      if (toml::table* t = n.as_table()) {
+        const auto* nm = t->get_as<std::string>("name");
+        if (!nm) continue;
+        stages.push_back(nm->get());
+        if (nm->get() == stage && !found) found = t;
+      }
+  if (!found)
+    throw InputError(option + ": " + file + " has no stage '" + stage + "'" + did_you_mean(stage, stages) + "; its stages: " +
+                     join_names(stages));
+  return found;
+}
+
+// --motion and --pgv (CaseOverrides): set in the stage tables, so that the case's source text
+// (and a restart's comparison) has them. The motion names themselves are checked where the stage
+// is read, against the case's [[motions]].
+void set_events(toml::table& root, const CaseOverrides& overrides, const std::string& file) {
+  if (overrides.motion.empty() && overrides.pgv.empty()) return;
+  std::vector<std::pair<std::string, toml::table*>> playing;  // stages that play a motion, in order
+  if (toml::array* list = root["stages"].as_array())
+    for (toml::node& n : *list)
+      if (toml::table* t = n.as_table(); t && t->contains("motion")) {
+        const auto* nm = t->get_as<std::string>("name");
+        playing.emplace_back(nm ? nm->get() : std::string("(unnamed)"), t);
+      }
+  std::vector<std::string> playing_names;
+  for (const auto& p : playing) playing_names.push_back(p.first);
+  // The stages an option names: one, or (key "") every stage that plays a motion.
+  auto targets = [&](const std::string& stage, const std::string& option) {
+    std::vector<toml::table*> out;
+    if (stage.empty()) {
+      if (playing.empty())
+        throw InputError(option + ": " + file + " has no stage that plays an earthquake (a [[stages]] entry with motion = " +
+                         "\"...\"); the option changes those stages");
+      for (const auto& p : playing) out.push_back(p.second);
+      return out;
+    }
+    toml::table* t = named_stage(root, stage, option, file);
+    if (!t->contains("motion"))
+      throw InputError(option + ": stage '" + stage + "' of " + file + " plays no motion, so it has nothing to change; " +
+                       (playing.empty() ? std::string("the case has no stage that does")
+                                        : "stages that play one: " + join_names(playing_names)));
+    out.push_back(t);
+    return out;
+  };
+  // The every-stage values first, then the named stages' over them.
+  for (const bool named : {false, true}) {
+    for (const auto& [stage, names] : overrides.motion) {
+      if (stage.empty() == named) continue;
+      std::string list;
+      for (const auto& m : names) list += (list.empty() ? "" : ",") + m;
+      for (toml::table* t : targets(stage, "--motion " + (stage.empty() ? "" : stage + "=") + list)) {
+        if (names.size() == 1) {
+          t->insert_or_assign("motion", names.front());
+        } else {
+          toml::array a;
+          for (const auto& m : names) a.push_back(m);
+          t->insert_or_assign("motion", std::move(a));
+        }
+      }
+    }
+    for (const auto& [stage, value] : overrides.pgv) {
+      if (stage.empty() == named) continue;
+      for (toml::table* t : targets(stage, "--pgv " + (stage.empty() ? "" : stage + "=") + value)) {
+        t->erase("motion_scale");
+        t->erase("pga");
+        t->insert_or_assign("pgv", value);
+      }
+    }
+  }
+}
+
 Case parse(const std::string& text, const std::string& name, const std::string& base_dir, bool from_file,
            const CaseOverrides& overrides = {}) {
   toml::table root;
@@ -130,25 +208,14 @@ Case parse(const std::string& text, const std::string& name, const std::string& 
                      ": TOML syntax error: " + std::string(e.description()));
   }
   for (const auto& [stage, names] : overrides.excavate) {
-    toml::table* found = nullptr;
-    std::vector<std::string> stages;
-    if (toml::array* list = root["stages"].as_array())
-      for (toml::node& n : *list)
-        if (toml::table* t = n.as_table()) {
-          const auto* nm = t->get_as<std::string>("name");
-          if (!nm) continue;
-          stages.push_back(nm->get());
-          if (nm->get() == stage) found = t;
-        }
-    if (!found)
-      throw InputError("--excavate " + stage + "=...: " + name + " has no stage '" + stage + "'" + did_you_mean(stage, stages) +
-                       "; its stages: " + join_names(stages));
+    toml::table* found = named_stage(root, stage, "--excavate " + stage + "=...", name);
     toml::array list;
     for (const auto& n : names) list.push_back(n);
     // Set in the table, so that the case's source text (and a restart's comparison) has it.
     if (list.empty()) found->erase("excavate");
     else found->insert_or_assign("excavate", std::move(list));
   }
+  set_events(root, overrides, name);
   if (overrides.rock_mass_seed) {
     // Set in the table itself, so that the case's source text (and a restart's comparison)
     // carries the seed the model was drawn with.

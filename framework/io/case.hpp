@@ -30,6 +30,14 @@ struct CaseOverrides {
   // `excavate` (blocks or groups; empty: nothing), e.g. a drift's overbreak chosen for another
   // realisation. A STAGE the case does not have is an InputError listing its stages.
   std::map<std::string, std::vector<std::string>> excavate;
+  // --motion [STAGE=]NAME[,NAME] and --pgv [STAGE=]VALUE: the earthquake a stage plays and its
+  // peak ground velocity, e.g. an event sequence at other levels or with other records. The key
+  // "" stands for every stage that plays a motion; a named stage wins over it. Only stages that
+  // already play a motion can be given one (a static stage lacks a dynamic stage's keys); a
+  // name the case's [[motions]] lacks is refused with its motions listed. --pgv replaces the
+  // stage's motion_scale, pga or pgv. The value is checked as a velocity ("1 m/s").
+  std::map<std::string, std::vector<std::string>> motion;
+  std::map<std::string, std::string> pgv;
 };
 
 // Read a case file. `name` is used in messages; `text` (optional) is parsed instead of the file

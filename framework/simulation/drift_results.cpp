@@ -329,6 +329,18 @@ void DriftResults::write_files(const Model& m, std::size_t index, const std::vec
        << format(d.near) << " m of its wall; apertures " << format(d.initial_aperture) << " m at zero normal displacement, "
        << format(d.residual_aperture) << " m residual; fallen: moved " << format(d.fall_displacement)
        << " m towards the drift; loosened: slip or opening over " << format(d.loosened) << " m\n";
+  // What each earthquake played, as scaled (rockdem run --motion and --pgv change it without the
+  // case file saying so): a series over levels or records is read back from here.
+  std::string events;
+  for (const StageSpec& st : c_.stages) {
+    if (st.motions.empty()) continue;
+    events += (events.empty() ? "" : "; ") + st.name + ":";
+    for (const StageSpec::Motion& mo : st.motions) {
+      const seismic::InputMotion& im = *c_.motions[static_cast<std::size_t>(mo.index)];
+      events += " " + im.name + " at PGV " + format(mo.factor * im.pgv()) + " m/s";
+    }
+  }
+  if (!events.empty()) head << "# events: " << events << "\n";
   {
     std::ostringstream os;
     os << head.str() << "stage,name,kind,time_s";

@@ -43,9 +43,28 @@ expect "a calibration for another law than the joint set's" 2 run "$tmp/calib.to
   "key 'joints.joints.law': law 'coulomb_slip' but the calibration" "is of a barton_bandis joint" "remove 'law'"
 # Building the blocks (--write-blocks) reads the whole case without running it.
 variant free_tops '/^top = "quiet"/d'
+# The lines of the [[boundary]] headers of the two columns and of the quiet top, as the file has them.
+read -r left right quiet < <(awk '/^\[\[boundary\]\]/ { at = NR } /^type = "free_field"/ { ff = ff " " at }
+  /^type = "quiet"/ { q = at } END { print ff, q }' "$tmp/free_tops.toml")
 expect "free column tops under a quiet model top" 0 run "$tmp/free_tops.toml" --write-blocks "$tmp/b1" -- \
-  "rockdem: warning: $tmp/free_tops.toml:143 [boundary] (free_field, left side): its column's top is \"free\" but the model's top is quiet (the quiet boundary $tmp/free_tops.toml:153 [boundary]) in stages 'event_1', 'event_2'" \
-  "rockdem: warning: $tmp/free_tops.toml:148 [boundary] (free_field, right side)" "set top = \"quiet\" in this boundary"
+  "rockdem: warning: $tmp/free_tops.toml:$left [boundary] (free_field, left side): its column's top is \"free\" but the model's top is quiet (the quiet boundary $tmp/free_tops.toml:$quiet [boundary]) in stages 'event_1', 'event_2'" \
+  "rockdem: warning: $tmp/free_tops.toml:$right [boundary] (free_field, right side)" "set top = \"quiet\" in this boundary"
+# Another level or record for the events from the command line (rockdem run --pgv, --motion):
+# checked as the case file's own keys are, before anything runs.
+expect "--pgv beyond any recorded earthquake" 2 run "$tmp/study.toml" --out "$tmp/o8" --pgv "50 m/s" -- \
+  "key 'stages.event_1.pgv' (a value not read from the file: given on the command line" "PGV 50 m/s (more than 5 m/s)"
+expect "--pgv without a unit" 2 run "$tmp/study.toml" --out "$tmp/o9" --pgv event_2=1 -- \
+  "--pgv event_2=1: '1' has no unit; a velocity needs one of: m/s" "e.g. \"0.5 m/s\""
+expect "--pgv for a stage that plays no motion" 2 run "$tmp/study.toml" --out "$tmp/o10" --pgv "rest_1=1 m/s" -- \
+  "--pgv rest_1=1 m/s: stage 'rest_1'" "plays no motion" "stages that play one: event_1, event_2"
+expect "--pgv for a stage the case lacks" 2 run "$tmp/study.toml" --out "$tmp/o11" --pgv "event_3=1 m/s" -- \
+  "has no stage 'event_3' (did you mean 'event_1'?); its stages: in_situ, excavate, event_1, rest_1, event_2, rest_2"
+expect "--motion naming no [[motions]] entry" 2 run "$tmp/study.toml" --out "$tmp/o12" --motion event_2=nortridge -- \
+  "key 'stages.event_2.motion'" "no motion named 'nortridge'" "motions: elcentro, northridge"
+expect "--motion given twice for one stage" 2 run "$tmp/study.toml" --out "$tmp/o13" --motion event_1=northridge \
+  --motion event_1=elcentro -- "stage 'event_1' is given a motion twice"
+expect "--motion on a laboratory-test case" 2 run "$src/cases/direct_shear/test09_mohr_coulomb.toml" --out "$tmp/o14" \
+  --motion northridge -- "--motion and --pgv apply to DEM case files"
 out=$("$bin" run "$tmp/study.toml" --write-blocks "$tmp/b2" 2>&1)
 code=$?
 if [ $code -ne 0 ] || grep -q "warning" <<<"$out"; then
@@ -54,7 +73,7 @@ if [ $code -ne 0 ] || grep -q "warning" <<<"$out"; then
 else
   echo "ok   quiet column tops under the quiet model top: no warning"
 fi
-for d in o1 o2 o4 o5 o7; do
+for d in o1 o2 o4 o5 o7 o8 o9 o10 o11 o12 o13 o14; do
   [ -e "$tmp/$d/history.h5" ] && { echo "FAIL $d: a refused case started running"; fail=1; }
 done
 exit $fail

@@ -12,6 +12,8 @@
 #    until corners stopped being read past their edges' ends, docs/drift-study.md);
 #  - an ensemble (--seeds) over realisations of a small rock mass: each run given its seed, runs
 #    that did not finish named, the counts per model and stage those of the runs' rows;
+#  - a series over levels and a record (--pgv, --motions): every event of each point's runs
+#    applied at its level, levels.csv and the series' page with every run;
 #  - bad arguments to the script are refused (exit 2) naming them.
 # Usage: bash drift_compare.sh <rockdem-binary> <source-dir>
 set -u
@@ -31,14 +33,10 @@ for v in mohr_coulomb barton_bandis continuously_yielding continuously_yielding_
     && cmp -s "$src/cases/drift/laws/$v.toml" "$tmp/c/$v/joints/joints.toml" \
     && ok "$v: run with its joint file (manifest, joints/joints.toml)" || bad "$v: manifest or joints/ does not show its joint file"
 done
-/usr/bin/python3 - "$tmp/c" "$src/tests/cli/drift/compare_summary_gold.csv" <<'PY' || fail=1
+PYTHONPATH="$src/tests/cli/lib" /usr/bin/python3 - "$tmp/c" "$src/tests/cli/drift/compare_summary_gold.csv" <<'PY' || fail=1
 import csv, math, os, sys
 out, gold_path = sys.argv[1:3]
-fail = False
-def check(good, what):
-    global fail
-    print(("ok   " if good else "FAIL ") + what)
-    fail = fail or not good
+from checks import check, done
 page = open(os.path.join(out, "index.html")).read()
 check(all(s in page for s in ("Mohr-Coulomb", "Barton-Bandis", "Continuously-Yielding", "CY + reverse-shear degradation")),
       "index.html names the four joint models")
@@ -79,7 +77,7 @@ for g, r in zip(gold, rows):
         if not good:
             worst.append(f"{r['variant']} {r['name']} {k}: {a:.6g} (gold {b:.6g})")
 check(not worst, "summary.csv matches the gold file within its tolerances" + ("" if not worst else ": " + "; ".join(worst[:8])))
-sys.exit(1 if fail else 0)
+done()
 PY
 
 # An ensemble (--seeds): two models over three realisations of tests/cli/drift/results.toml's rock
@@ -90,14 +88,10 @@ ens_laws="$src/cases/drift/laws/mohr_coulomb.toml $src/cases/drift/laws/continuo
 ROCKDEM_BIN=$bin "$src/scripts/drift-compare" --case "$src/tests/cli/drift/results.toml" --laws "$ens_laws" \
   --seeds "11 12 13" --out "$tmp/e" > "$tmp/elog" 2>&1
 erc=$?
-/usr/bin/python3 - "$tmp/e" "$erc" <<'PY' || fail=1
+PYTHONPATH="$src/tests/cli/lib" /usr/bin/python3 - "$tmp/e" "$erc" <<'PY' || fail=1
 import csv, json, os, sys
 out, rc = sys.argv[1], int(sys.argv[2])
-fail = False
-def check(good, what):
-    global fail
-    print(("ok   " if good else "FAIL ") + what)
-    fail = fail or not good
+from checks import check, done
 seeds, models = ["11", "12", "13"], ["mohr_coulomb", "continuously_yielding"]
 status = {(s, v): json.load(open(os.path.join(out, f"seed{s}", v, "manifest.json"))) for s in seeds for v in models}
 check(all(f"--seed {s}" in status[(s, v)]["command_line"] for s, v in status), "every run was given its seed (manifests)")
@@ -128,7 +122,7 @@ scaled = list(csv.reader(open(os.path.join(out, "scaled_off.csv"))))
 page = open(os.path.join(out, "index.html")).read()
 check(scaled == [["seed", "variant", "stage_name", "step", "block", "moved_m", "area_m2"]] and "Blocks scaled off" not in page,
       "no scale_off: scaled_off.csv has its header alone, the page no overbreak section")
-sys.exit(1 if fail else 0)
+done()
 PY
 # With runs that scaled blocks off (their scaled_off.csv written in as rockdem writes it, on a
 # copy of the ensemble): the page lists them per seed and model, and the ensemble's file has them.
@@ -145,8 +139,58 @@ if [ -f "$tmp/e2/index.html" ]; then
   else bad "the ensemble's scaled-off blocks: $(grep -o '<h2>Blocks scaled off.*' "$tmp/e2/index.html" | head -c 600)"; fi
 else bad "drift_ensemble.py on the copy wrote no page: $(cat "$tmp/e2.log")"; fi
 
+# A series over earthquake levels (--pgv) with a named record (--motions): each point's runs play
+# every event at its level (the applied motion's own file says so, and the results' # events
+# line), and the series' page and levels.csv have every run's rows under its record and level.
+ROCKDEM_BIN=$bin "$src/scripts/drift-compare" --laws "$ens_laws" --pgv "0.25 0.5" --motions elcentro --out "$tmp/l" \
+  > "$tmp/llog" 2>&1
+lrc=$?
+PYTHONPATH="$src/tests/cli/lib" /usr/bin/python3 - "$tmp/l" "$lrc" <<'PY' || fail=1
+import csv, io, os, sys
+from checks import check, done, rows
+out, rc = sys.argv[1], int(sys.argv[2])
+check(rc == 0, f"drift-compare --pgv \"0.25 0.5\" --motions elcentro: exit {rc}")
+models, points = ["mohr_coulomb", "continuously_yielding"], {"elcentro_pgv0.25": 0.25, "elcentro_pgv0.5": 0.5}
+for p, pgv in points.items():
+    for v in models:
+        run = os.path.join(out, p, v)
+        # The ground motion each event applied, as the run wrote it: its peak velocity is the level.
+        peaks = []
+        for stage in ("3_event_1", "5_event_2"):
+            r = rows(os.path.join(run, f"motion_{stage}.csv"))
+            peaks.append(max(abs(float(x["elcentro_vel_mps"])) for x in r))
+        check(all(abs(x - pgv) < 1e-9 for x in peaks), f"{p}/{v}: both events applied El Centro at PGV {peaks} m/s")
+        head = open(os.path.join(run, "drift", "events.csv")).read()
+        check(f"# events: event_1: elcentro at PGV {pgv:g} m/s; event_2: elcentro at PGV {pgv:g} m/s" in head,
+              f"{p}/{v}: drift/events.csv names what the events played")
+lv = list(csv.DictReader(open(os.path.join(out, "levels.csv"))))
+for p, pgv in points.items():
+    for v in models:
+        mine = [r for r in lv if r["point"] == p and r["variant"] == v]
+        summary = [r for r in csv.DictReader(open(os.path.join(out, p, "summary.csv"))) if r["variant"] == v]
+        check(len(mine) == len(summary) == 5 and all(r["record"] == "elcentro" and float(r["pgv_m_s"]) == pgv and
+                                                  r["status"] == "finished" for r in mine) and
+              [r["max_slip_near_m"] for r in mine] == [r["max_slip_near_m"] for r in summary],
+              f"levels.csv: {p}/{v} has its five stages under elcentro at {pgv} m/s, the slip as its summary.csv")
+page = open(os.path.join(out, "index.html")).read()
+check("levels_max_slip_near_m.png" in page and os.path.getsize(os.path.join(out, "figures", "levels_max_slip_near_m.png")) > 10000
+      and all(f"href='{p}/index.html'" in page for p in points),
+      "the series' page: its figures and a link to each point's comparison")
+done()
+PY
+msg=$(ROCKDEM_BIN=$bin "$src/scripts/drift-compare" --pgv 0.5 --motions nortridge --out "$tmp/pre_m" 2>&1)
+rc=$?
+[ $rc -eq 2 ] && grep -q "the case cannot run with --motion nortridge --pgv 0.5m/s; nothing was run" <<<"$msg" &&
+  grep -q "no motion named 'nortridge'; motions: elcentro, northridge" <<<"$msg" && [ ! -e "$tmp/pre_m/nortridge_pgv0.5" ] &&
+  ok "drift-compare --motions nortridge: refused before any run, the case's motions listed" \
+  || bad "drift-compare --motions nortridge: exit $rc: $msg"
+msg=$(ROCKDEM_BIN=$bin "$src/scripts/drift-compare" --seeds 1 --pgv 0.5 --out "$tmp/pre_s" 2>&1)
+rc=$?
+[ $rc -eq 2 ] && grep -q "not both" <<<"$msg" && ok "drift-compare --seeds with --pgv: refused ($msg)" \
+  || bad "drift-compare --seeds with --pgv: exit $rc: $msg"
+
 # Bad arguments.
-for args in "--np two" "--jobs 0" "--case $tmp/none.toml" "--laws $tmp/none.toml" "--bogus" "--seeds 1,2" "--seeds -3" "--seeds 4_4" "--seeds 2_3_2" "--seeds _"; do
+for args in "--np two" "--jobs 0" "--case $tmp/none.toml" "--laws $tmp/none.toml" "--bogus" "--seeds 1,2" "--seeds -3" "--seeds 4_4" "--seeds 2_3_2" "--seeds _" "--pgv 0.5_m/s" "--pgv 1_1" "--pgv -1" "--motions a/b" "--motions x_x"; do
   # shellcheck disable=SC2086
   set -- $args
   [ $# -eq 2 ] && set -- "$1" "${2//_/ }"  # "_" is a space within one argument: "4_4" is --seeds "4 4"

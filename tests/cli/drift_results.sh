@@ -26,16 +26,10 @@ ok() { echo "ok   $1"; }
 bad() { echo "FAIL $1"; fail=1; }
 
 "$bin" run "$case_file" --out "$tmp/a" --quiet || { echo "FAIL run exited $?"; exit 1; }
-/usr/bin/python3 - "$tmp/a" <<'PY' || fail=1
+PYTHONPATH="$src/tests/cli/lib" /usr/bin/python3 - "$tmp/a" <<'PY' || fail=1
 import sys, csv, h5py, numpy as np
 out = sys.argv[1]
-fail = False
-def check(good, what):
-    global fail
-    print(("ok   " if good else "FAIL ") + what)
-    fail = fail or not good
-def rows(path):
-    return list(csv.DictReader(l for l in open(path) if not l.startswith("#")))
+from checks import check, done, rows
 ev = rows(out + "/drift/events.csv")
 check([r["name"] for r in ev] == ["excavate", "loosen", "settle"] and [r["kind"] for r in ev] == ["reference", "rest", "rest"],
       "events.csv: a row for the reference stage and each stage after it")
@@ -78,21 +72,17 @@ for c in ct:
 got = np.array([float(last[c]) for c in ("k_xx_m2", "k_yy_m2", "k_xy_m2")])
 check(np.allclose(k, got, rtol=1e-6, atol=0), f"permeability {got} from the apertures ({k})")
 check(all(float(c["aperture_m"]) >= 3e-5 for c in ct), "no aperture below the residual")
-sys.exit(1 if fail else 0)
+done()
 PY
 # The same results as VTK fields (ParaView): one joints_/blocks_ file per stage from the reference
 # on, collections listing them at the stages' times, the joint fields equal to contacts_*.csv.
-/usr/bin/python3 - "$tmp/a" <<'PY' || fail=1
+PYTHONPATH="$src/tests/cli/lib" /usr/bin/python3 - "$tmp/a" <<'PY' || fail=1
 import sys, csv, re
 import numpy as np
 import vtk
 from vtk.util.numpy_support import vtk_to_numpy
 out = sys.argv[1] + "/drift"
-fail = False
-def check(good, what):
-    global fail
-    print(("ok   " if good else "FAIL ") + what)
-    fail = fail or not good
+from checks import check, done
 def read(path):
     r = vtk.vtkXMLUnstructuredGridReader()
     r.SetFileName(path)
@@ -123,7 +113,7 @@ moved = vtk_to_numpy(b.GetCellData().GetArray("moved_m"))
 fallen = vtk_to_numpy(b.GetCellData().GetArray("fallen"))
 check(b.GetNumberOfCells() > 10 and np.nanmax(moved) < 0.01 and fallen.sum() == 0,
       f"blocks_{tags[-1]}.vtu: {b.GetNumberOfCells()} blocks, largest move {np.nanmax(moved) * 1e3:.3f} mm, none fallen")
-sys.exit(1 if fail else 0)
+done()
 PY
 
 n=$(grep -vc '^#' "$tmp/a/drift/fallen_blocks.csv")

@@ -59,16 +59,10 @@ for stage, name in ((3, "event_1"), (5, "event_2")):
     bad = bad or not good
 sys.exit(1 if bad else 0)
 PY
-/usr/bin/python3 - "$tmp/s" "$src/tests/cli/drift/small_events_gold.csv" <<'PY' || fail=1
+PYTHONPATH="$src/tests/cli/lib" /usr/bin/python3 - "$tmp/s" "$src/tests/cli/drift/small_events_gold.csv" <<'PY' || fail=1
 import sys, csv, h5py, numpy as np
 out, gold_path = sys.argv[1:3]
-fail = False
-def check(good, what):
-    global fail
-    print(("ok   " if good else "FAIL ") + what)
-    fail = fail or not good
-def rows(path):
-    return list(csv.DictReader(l for l in open(path) if not l.startswith("#")))
+from checks import check, done, rows
 ev = rows(out + "/drift/events.csv")
 check([r["kind"] for r in ev] == ["reference", "event", "rest", "event", "rest"], "events.csv: the reference, two events, two rests")
 # The base rides the incident wave. The record is an outcrop motion (twice the wave going up), and
@@ -137,7 +131,7 @@ for g, r in zip(gold, ev):
         if not ok:
             worst.append(f"{r['name']} {k}: {r[k]} (gold {g[k]})")
 check(not worst, "events.csv matches the gold file within its tolerances" + ("" if not worst else ": " + "; ".join(worst[:6])))
-sys.exit(1 if fail else 0)
+done()
 PY
 
 # Two processes.

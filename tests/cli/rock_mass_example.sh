@@ -13,10 +13,10 @@ trap 'rm -rf "$tmp"' EXIT
 "$bin" run "$src/cases/rock_mass/drift.toml" --out "$tmp/out" --quiet || { echo "FAIL run exited $?"; exit 1; }
 summary=$("$src/scripts/rock-mass-summary" "$tmp/out") || { echo "FAIL summary: $summary"; exit 1; }
 echo "$summary"
-/usr/bin/python3 - "$tmp/out" <<'PY'
+PYTHONPATH="$src/tests/cli/lib" /usr/bin/python3 - "$tmp/out" <<'PY'
 import sys, h5py, re
+from checks import check, done
 out = sys.argv[1]
-fail = False
 with h5py.File(out + "/history.h5", "r", locking=False) as f:
     h = f["history"]
     stage, ratio = h["stage"][:], h["ratio"][:]
@@ -27,14 +27,10 @@ with h5py.File(out + "/final_state.h5", "r", locking=False) as f:
     # Contacts that carry load (a contact of zero length carries none, whatever its state says).
     closed = (f["contacts/sigma_n"][:] > 0) & (f["contacts/length"][:] > 0)
     elastic = f["contacts/sigma_n"][:] / f["contacts/kn"][:].clip(1e-300)
-def check(ok, what):
-    global fail
-    print(("ok   " if ok else "FAIL ") + what)
-    fail = fail or not ok
 check(stage[-1] == 2 and ratio[-1] < 1e-4, f"both stages ran and the last converged (ratio {ratio[-1]:.3g})")
 check(not any(n.startswith("drift") for n in names), "the drift block was excavated")
 check(-0.02 < crown < -1e-4, f"the crown moved down by millimetres ({crown * 1e3:.3f} mm)")
 check(-0.02 < spring < -1e-4, f"the springline moved inward by millimetres ({spring * 1e3:.3f} mm)")
 check(over[closed].max() < 2 * elastic[closed].max(), f"largest overlap {over[closed].max() * 1e3:.3f} mm within twice the largest elastic closure {elastic[closed].max() * 1e3:.3f} mm")
-sys.exit(1 if fail else 0)
+done()
 PY

@@ -686,3 +686,54 @@ TEST(FreeField, ColumnTopsAsTheModelsTopAreNotWarnedOf) {
   inside = replace(inside, "[[stages]]", "[[boundary]]\ntype = \"quiet\"\nblock = \"column\"\nface = \"top\"\n\n[[stages]]");
   EXPECT_EQ(warnings_of(inside, "inside"), std::vector<std::string>{});
 }
+
+// rockdem run --motion and --pgv (CaseOverrides): every stage that plays a motion takes the
+// option without a stage; a named stage takes its own over it; the level is the played motion's
+// peak ground velocity after the stage's scaling, whatever the case file had; the case's source
+// text carries them (a restart must give the same), and the case without them is as its file.
+TEST(SeismicInput, CommandLineSetsEachEventsRecordAndLevel) {
+  const std::string file = std::string(ROCKDEM_SOURCE_DIR) + "/cases/drift/small.toml";
+  auto played = [](const Case& c, const std::string& stage) {
+    for (const StageSpec& s : c.stages)
+      if (s.name == stage) {
+        EXPECT_EQ(s.motions.size(), 1u) << stage;
+        const auto& m = *c.motions[static_cast<std::size_t>(s.motions.at(0).index)];
+        return std::pair{m.name, s.motions.at(0).factor * m.pgv()};
+      }
+    ADD_FAILURE() << "no stage " << stage;
+    return std::pair{std::string(), 0.0};
+  };
+  const Case plain = load_case(file);
+  EXPECT_EQ(played(plain, "event_1").first, "elcentro");
+  EXPECT_NEAR(played(plain, "event_1").second, 0.5, 1e-12);
+  EXPECT_NEAR(played(plain, "event_2").second, 0.5, 1e-12);
+
+  CaseOverrides o;
+  o.motion[""] = {"northridge"};
+  o.motion["event_1"] = {"elcentro"};
+  o.pgv[""] = "1 m/s";
+  o.pgv["event_2"] = "250 mm/s";
+  const Case c = load_case(file, o);
+  EXPECT_EQ(played(c, "event_1").first, "elcentro");
+  EXPECT_NEAR(played(c, "event_1").second, 1.0, 1e-12);
+  EXPECT_EQ(played(c, "event_2").first, "northridge");
+  EXPECT_NEAR(played(c, "event_2").second, 0.25, 1e-12);
+  // Stages that play nothing still play nothing.
+  for (const StageSpec& s : c.stages) {
+    if (s.name.rfind("event_", 0) != 0) {
+      EXPECT_TRUE(s.motions.empty()) << s.name;
+    }
+  }
+  EXPECT_NE(c.source_toml.find("250 mm/s"), std::string::npos);
+  EXPECT_NE(c.source_toml, plain.source_toml);
+
+  // A stage the case lacks, and one that plays no motion: refused, naming what is valid.
+  CaseOverrides bad;
+  bad.pgv["rest_1"] = "1 m/s";
+  try {
+    (void)load_case(file, bad);
+    ADD_FAILURE() << "--pgv rest_1=... was taken";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("stages that play one: event_1, event_2"), std::string::npos) << e.what();
+  }
+}
