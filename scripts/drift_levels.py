@@ -54,10 +54,11 @@ def events_played(run):
 
 def describe(played):
     """(record, pgv) of a run: the one record and level all its events played, else a joined
-    description and NaN (a series point whose events differ has no single level)."""
-    pairs = {p for v in played.values() for p in v}
-    records = sorted({m for m, _ in pairs})
-    levels = sorted({round(v, 6) for _, v in pairs})
+    description and NaN (a series point whose events differ has no single level). An event's
+    level is its first motion's (rockdem run --pgv scales the first; a second, vertical one keeps
+    its ratio to it)."""
+    records = sorted({m for v in played.values() for m, _ in v})
+    levels = sorted({round(v[0][1], 6) for v in played.values() if v})
     return "+".join(records) or "?", levels[0] if len(levels) == 1 else math.nan
 
 
@@ -106,8 +107,8 @@ def main():
         fig, axes = plt.subplots(1, len(records), figsize=(4.2 * len(records) + 1.5, 3.6), squeeze=False)
         for ax, rec in zip(axes[0], records):
             for j, v in enumerate(variants):
-                pts = sorted((pgv, rows) for _, record, pgv, var, _, _, rows in runs
-                             if record == rec and var == v and rows and not math.isnan(pgv))
+                pts = sorted(((pgv, rows) for _, record, pgv, var, _, _, rows in runs
+                              if record == rec and var == v and rows and not math.isnan(pgv)), key=lambda t: t[0])
                 if not pts:
                     continue
                 c = COLORS[j % len(COLORS)]
@@ -150,7 +151,7 @@ def main():
                         if k != "fallen_area_m2") + "</tr>")
     for p, record, pgv, v, st, _, rows in sorted(runs, key=lambda r: (r[1], r[2], variants.index(r[3]))):
         if not rows:
-            page.append(f"<tr><td>{e(record)}</td><td>{pgv:g}</td><td>{e(label(v))}</td><td colspan=5 class='bad'>"
+            page.append(f"<tr><td>{e(record)}</td><td>{pgv:g}</td><td>{e(label(v))}</td><td colspan=6 class='bad'>"
                         f"no results ({e(st)})</td></tr>")
             continue
         first, last = after_first_event(rows) or rows[0], rows[-1]

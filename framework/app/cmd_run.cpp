@@ -261,8 +261,8 @@ const CommandRegistrar reg{Command{
                      "(STAGE= for none), e.g. an overbreak chosen for another realisation (--seed); repeatable");
       auto motions = std::make_shared<std::vector<std::string>>();
       sub.add_option("--motion", *motions,
-                     "[STAGE=]NAME[,NAME]: the earthquake stage STAGE plays this [[motions]] entry (two: horizontal and "
-                     "vertical) instead of its own; without STAGE= every stage that plays a motion does, e.g. --motion "
+                     "[STAGE=]NAME[,NAME]: the earthquake stage STAGE plays this [[motions]] entry instead of its own (two "
+                     "names for a stage that plays two, each in its entry's direction); without STAGE= every stage that plays a motion does, e.g. --motion "
                      "northridge; repeatable");
       auto pgvs = std::make_shared<std::vector<std::string>>();
       sub.add_option("--pgv", *pgvs,
@@ -358,6 +358,9 @@ const CommandRegistrar reg{Command{
           if (eq == std::string::npos) return {"", a};
           return {a.substr(0, eq), a.substr(eq + 1)};
         };
+        if ((!motions->empty() || !pgvs->empty()) && (lab || *use_default))
+          throw InputError("rockdem run: --motion and --pgv apply to DEM case files whose [[stages]] play [[motions]] (a "
+                           "laboratory-test case is driven by its [[stage]] tables)");
         for (const auto& a : *motions) {
           auto [stage, list] = stage_and_value(a);
           if (a.find('=') == 0) throw InputError("--motion " + a + ": write [STAGE=]NAME, e.g. --motion event_2=northridge");
@@ -393,9 +396,6 @@ const CommandRegistrar reg{Command{
                                                        "STAGE=... for one stage)")
                                            : "stage '" + stage + "' is given a peak ground velocity twice"));
         }
-        if ((!overrides.motion.empty() || !overrides.pgv.empty()) && (lab || *use_default))
-          throw InputError("rockdem run: --motion and --pgv apply to DEM case files whose [[stages]] play [[motions]] (a "
-                           "laboratory-test case is driven by its [[stage]] tables)");
         if (!seed->empty()) {
           std::int64_t n = -1;
           const char* end = seed->data() + seed->size();

@@ -131,7 +131,11 @@ toml::table* named_stage(toml::table& root, const std::string& stage, const std:
         const auto* nm = t->get_as<std::string>("name");
         if (!nm) continue;
         stages.push_back(nm->get());
-        if (nm->get() == stage && !found) found = t;
+        if (nm->get() != stage) continue;
+        if (found)
+          throw InputError(option + ": " + file + " has two stages named '" + stage + "'; the option cannot tell which " +
+                           "(name each stage once)");
+        found = t;
       }
   if (!found)
     throw InputError(option + ": " + file + " has no stage '" + stage + "'" + did_you_mean(stage, stages) + "; its stages: " +
@@ -177,7 +181,19 @@ void set_events(toml::table& root, const CaseOverrides& overrides, const std::st
       if (stage.empty() == named) continue;
       std::string list;
       for (const auto& m : names) list += (list.empty() ? "" : ",") + m;
-      for (toml::table* t : targets(stage, "--motion " + (stage.empty() ? "" : stage + "=") + list)) {
+      const std::string option = "--motion " + (stage.empty() ? "" : stage + "=") + list;
+      for (toml::table* t : targets(stage, option)) {
+        // A stage that plays a horizontal and a vertical record keeps both: one name for it
+        // would drop the vertical without a word.
+        const toml::array* had = t->get_as<toml::array>("motion");
+        const std::size_t n_had = had ? had->size() : 1;
+        if (n_had != names.size()) {
+          const auto* nm = t->get_as<std::string>("name");
+          throw InputError(option + ": stage '" + (nm ? nm->get() : std::string("?")) + "' of " + file + " plays " +
+                           std::to_string(n_had) + (n_had == 1 ? " motion" : " motions") + ", the option names " +
+                           std::to_string(names.size()) + "; give as many, e.g. --motion STAGE=H,V for two (each " +
+                           "name a [[motions]] entry, whose direction is its own)");
+        }
         if (names.size() == 1) {
           t->insert_or_assign("motion", names.front());
         } else {

@@ -180,7 +180,9 @@ void check_same_case(const Case& c, const std::string& restart, std::size_t comp
   for (std::size_t i = 0; i < diffs.size() && i < 8; ++i) msg += "\n    " + diffs[i];
   if (diffs.size() > 8) msg += "\n    ... and " + std::to_string(diffs.size() - 8) + " more";
   msg += "\n  a restart may change or add only the stages still to run (from stage " + std::to_string(completed + 1) +
-         " on), with boundary conditions and motions that only they use; run the changed case from the start";
+         " on), with boundary conditions and motions that only they use; run the changed case from the start (values "
+         "given on the command line, --pgv, --motion, --excavate and --seed, are part of the case: the manifest's "
+         "command_line has those of the run that wrote the checkpoint)";
   throw InputError(msg);
 }
 

@@ -146,7 +146,7 @@ ROCKDEM_BIN=$bin "$src/scripts/drift-compare" --laws "$ens_laws" --pgv "0.25 0.5
   > "$tmp/llog" 2>&1
 lrc=$?
 PYTHONPATH="$src/tests/cli/lib" /usr/bin/python3 - "$tmp/l" "$lrc" <<'PY' || fail=1
-import csv, io, os, sys
+import csv, os, sys
 from checks import check, done, rows
 out, rc = sys.argv[1], int(sys.argv[2])
 check(rc == 0, f"drift-compare --pgv \"0.25 0.5\" --motions elcentro: exit {rc}")
@@ -190,7 +190,7 @@ rc=$?
   || bad "drift-compare --seeds with --pgv: exit $rc: $msg"
 
 # Bad arguments.
-for args in "--np two" "--jobs 0" "--case $tmp/none.toml" "--laws $tmp/none.toml" "--bogus" "--seeds 1,2" "--seeds -3" "--seeds 4_4" "--seeds 2_3_2" "--seeds _" "--pgv 0.5_m/s" "--pgv 1_1" "--pgv -1" "--motions a/b" "--motions x_x"; do
+for args in "--np two" "--jobs 0" "--case $tmp/none.toml" "--laws $tmp/none.toml" "--bogus" "--seeds 1,2" "--seeds -3" "--seeds 4_4" "--seeds 2_3_2" "--seeds _" "--pgv 0.5_m/s" "--pgv 1_1" "--pgv 1_1.0" "--pgv -1" "--pgv 0" "--pgv _" "--motions a/b" "--motions x_x" "--motions _"; do
   # shellcheck disable=SC2086
   set -- $args
   [ $# -eq 2 ] && set -- "$1" "${2//_/ }"  # "_" is a space within one argument: "4_4" is --seeds "4 4"

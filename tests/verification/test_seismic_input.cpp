@@ -727,13 +727,21 @@ TEST(SeismicInput, CommandLineSetsEachEventsRecordAndLevel) {
   EXPECT_NE(c.source_toml.find("250 mm/s"), std::string::npos);
   EXPECT_NE(c.source_toml, plain.source_toml);
 
-  // A stage the case lacks, and one that plays no motion: refused, naming what is valid.
-  CaseOverrides bad;
-  bad.pgv["rest_1"] = "1 m/s";
-  try {
-    (void)load_case(file, bad);
-    ADD_FAILURE() << "--pgv rest_1=... was taken";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("stages that play one: event_1, event_2"), std::string::npos) << e.what();
-  }
+  // A stage that plays no motion, one the case lacks, and two records for a stage that plays
+  // one: refused, naming what is valid.
+  auto refused = [&](const CaseOverrides& bad, const std::string& want) {
+    try {
+      (void)load_case(file, bad);
+      ADD_FAILURE() << "taken: " << want;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(want), std::string::npos) << e.what();
+    }
+  };
+  CaseOverrides no_motion, no_stage, two;
+  no_motion.pgv["rest_1"] = "1 m/s";
+  refused(no_motion, "stages that play one: event_1, event_2");
+  no_stage.pgv["event_3"] = "1 m/s";
+  refused(no_stage, "has no stage 'event_3' (did you mean 'event_1'?)");
+  two.motion["event_1"] = {"elcentro", "northridge"};
+  refused(two, "plays 1 motion, the option names 2");
 }
