@@ -6,7 +6,8 @@
 #  - each run used its joint file (named in its manifest, copied into joints/) and the models
 #    give different results (no two of them the same slip near the drift after the last event);
 #  - regression: summary.csv against tests/cli/drift/compare_summary_gold.csv (fallen blocks
-#    exactly, displacements to 0.5 mm + 5 %, extents to 0.1 m, permeability ratios to 10 %);
+#    exactly, displacements to 0.5 mm + 5 %, extents to 0.1 m, permeability ratios to 10 %,
+#    loosened contacts to 2 + 10 %);
 #  - no stage of any model has a gridpoint faster than 20 m/s (the report's flag for a numerical
 #    episode; plain Continuously-Yielding's kick of rm.76 off rm.79 in event 2, 22.7 m/s, was one
 #    until corners stopped being read past their edges' ends, docs/drift-study.md);
@@ -72,6 +73,8 @@ for g, r in zip(gold, rows):
             good = abs(a - b) <= 0.1
         elif k == "fallen_area_m2":
             good = abs(a - b) <= 0.01 + 0.01 * abs(b)
+        elif k == "loosened_contacts":
+            good = abs(a - b) <= 2 + 0.10 * abs(b)
         else:
             good = abs(a - b) <= 5e-4 + 0.05 * abs(b)
         if not good:
