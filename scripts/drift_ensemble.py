@@ -78,13 +78,21 @@ def spread(values, scale):
     return f"{statistics.median(v):.3g} ({v[0]:.3g} to {v[-1]:.3g})"
 
 
+def split_args(argv, doc):
+    """OUT VARIANT [VARIANT ...] -- ITEM [ITEM ...] as (out, variants, items); None, with the
+    script's usage printed, when they are not so (drift_ensemble.py and drift_levels.py)."""
+    if "--" not in argv or argv.index("--") < 2 or argv.index("--") == len(argv) - 1:
+        print(doc, file=sys.stderr)
+        return None
+    cut = argv.index("--")
+    return argv[0], argv[1:cut], argv[cut + 1:]
+
+
 def main():
-    args = sys.argv[1:]
-    if "--" not in args or args.index("--") < 2 or args.index("--") == len(args) - 1:
-        print(__doc__, file=sys.stderr)
+    args = split_args(sys.argv[1:], __doc__)
+    if args is None:
         return 2
-    cut = args.index("--")
-    out, variants, seeds = args[0], args[1:cut], args[cut + 1:]
+    out, variants, seeds = args
     # rows[v][seed] = that run's summary rows (the stages it reached, from the excavation on)
     rows = {v: {} for v in variants}
     status = {v: {} for v in variants}

@@ -24,7 +24,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from drift_ensemble import SPREAD, number, status_of  # noqa: E402  (the ensemble's measures, a run's status)
+from drift_ensemble import SPREAD, number, split_args, status_of  # noqa: E402  (the ensemble's measures, helpers)
 from plot_drift_compare import COLORS, label  # noqa: E402  (the comparison's names and colours)
 
 # The ensemble's measures and how many contacts near the drift loosened: the largest slip can stay
@@ -63,12 +63,10 @@ def describe(played):
 
 
 def main():
-    args = sys.argv[1:]
-    if "--" not in args or args.index("--") < 2 or args.index("--") == len(args) - 1:
-        print(__doc__, file=sys.stderr)
+    args = split_args(sys.argv[1:], __doc__)
+    if args is None:
         return 2
-    cut = args.index("--")
-    out, variants, points = args[0], args[1:cut], args[cut + 1:]
+    out, variants, points = args
     runs = []  # (point, record, pgv, variant, status, why, rows)
     for p in points:
         folder = os.path.join(out, p)

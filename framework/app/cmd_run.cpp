@@ -333,19 +333,25 @@ const CommandRegistrar reg{Command{
         if (!joint_files.empty() && (lab || *use_default))
           throw InputError("rockdem run: --joint applies to DEM case files with [[joints]] entries (a laboratory-test case "
                            "names its one joint in [joint])");
+        // NAME,NAME,...: the names of a non-empty list, or `empty_name` thrown for a blank one.
+        auto comma_list = [](const std::string& list, const std::string& empty_name) {
+          std::vector<std::string> names;
+          for (std::size_t at = 0; at <= list.size();) {
+            const std::size_t comma = std::min(list.find(',', at), list.size());
+            if (comma == at) throw InputError(empty_name);
+            names.push_back(list.substr(at, comma - at));
+            at = comma + 1;
+          }
+          return names;
+        };
         for (const auto& a : *excavations) {
           const auto eq = a.find('=');
           if (eq == std::string::npos || eq == 0)
             throw InputError("--excavate " + a + ": write STAGE=NAME,... (blocks or groups; STAGE= for none), e.g. --excavate "
                              "excavate=drift");
+          const std::string list = a.substr(eq + 1);
           std::vector<std::string> names;
-          for (std::size_t at = eq + 1; at < a.size();) {
-            const std::size_t comma = std::min(a.find(',', at), a.size());
-            if (comma == at) throw InputError("--excavate " + a + ": an empty name in the list");
-            names.push_back(a.substr(at, comma - at));
-            at = comma + 1;
-            if (comma + 1 == a.size()) throw InputError("--excavate " + a + ": an empty name in the list");
-          }
+          if (!list.empty()) names = comma_list(list, "--excavate " + a + ": an empty name in the list");
           if (!overrides.excavate.emplace(a.substr(0, eq), std::move(names)).second)
             throw InputError("--excavate " + a + ": stage '" + a.substr(0, eq) + "' is given twice");
         }
@@ -358,28 +364,23 @@ const CommandRegistrar reg{Command{
           if (eq == std::string::npos) return {"", a};
           return {a.substr(0, eq), a.substr(eq + 1)};
         };
+        auto given_twice = [](const std::string& option, const std::string& stage, const std::string& what) {
+          return InputError(option + ": " +
+                            (stage.empty() ? "every stage is given " + what + " twice (once without STAGE=; STAGE=... for one stage)"
+                                           : "stage '" + stage + "' is given " + what + " twice"));
+        };
         if ((!motions->empty() || !pgvs->empty()) && (lab || *use_default))
           throw InputError("rockdem run: --motion and --pgv apply to DEM case files whose [[stages]] play [[motions]] (a "
                            "laboratory-test case is driven by its [[stage]] tables)");
         for (const auto& a : *motions) {
           auto [stage, list] = stage_and_value(a);
           if (a.find('=') == 0) throw InputError("--motion " + a + ": write [STAGE=]NAME, e.g. --motion event_2=northridge");
-          std::vector<std::string> names;
-          for (std::size_t at = 0; at <= list.size();) {
-            const std::size_t comma = std::min(list.find(',', at), list.size());
-            if (comma == at)
-              throw InputError("--motion " + a + ": an empty motion name; write [STAGE=]NAME or [STAGE=]H,V (names of the "
-                               "case's [[motions]] entries)");
-            names.push_back(list.substr(at, comma - at));
-            at = comma + 1;
-          }
+          std::vector<std::string> names = comma_list(list, "--motion " + a + ": an empty motion name; write [STAGE=]NAME or "
+                                                                   "[STAGE=]H,V (names of the case's [[motions]] entries)");
           if (names.size() > 2)
             throw InputError("--motion " + a + ": a stage plays one motion, or two (horizontal, vertical), not " +
                              std::to_string(names.size()));
-          if (!overrides.motion.emplace(stage, std::move(names)).second)
-            throw InputError("--motion " + a + ": " + (stage.empty() ? std::string("every stage is given a motion twice (once without STAGE=; "
-                                                       "STAGE=... for one stage)")
-                                           : "stage '" + stage + "' is given a motion twice"));
+          if (!overrides.motion.emplace(stage, std::move(names)).second) throw given_twice("--motion " + a, stage, "a motion");
         }
         for (const auto& a : *pgvs) {
           auto [stage, value] = stage_and_value(a);
@@ -392,9 +393,7 @@ const CommandRegistrar reg{Command{
           }
           if (!(v > 0.0)) throw InputError("--pgv " + a + ": the peak ground velocity must be above zero");
           if (!overrides.pgv.emplace(stage, value).second)
-            throw InputError("--pgv " + a + ": " + (stage.empty() ? std::string("every stage is given a peak ground velocity twice (once without STAGE=; "
-                                                       "STAGE=... for one stage)")
-                                           : "stage '" + stage + "' is given a peak ground velocity twice"));
+            throw given_twice("--pgv " + a, stage, "a peak ground velocity");
         }
         if (!seed->empty()) {
           std::int64_t n = -1;

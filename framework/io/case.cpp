@@ -175,41 +175,37 @@ void set_events(toml::table& root, const CaseOverrides& overrides, const std::st
     out.push_back(t);
     return out;
   };
-  // The every-stage values first, then the named stages' over them.
-  for (const bool named : {false, true}) {
-    for (const auto& [stage, names] : overrides.motion) {
-      if (stage.empty() == named) continue;
-      std::string list;
-      for (const auto& m : names) list += (list.empty() ? "" : ",") + m;
-      const std::string option = "--motion " + (stage.empty() ? "" : stage + "=") + list;
-      for (toml::table* t : targets(stage, option)) {
-        // A stage that plays a horizontal and a vertical record keeps both: one name for it
-        // would drop the vertical without a word.
-        const toml::array* had = t->get_as<toml::array>("motion");
-        const std::size_t n_had = had ? had->size() : 1;
-        if (n_had != names.size()) {
-          const auto* nm = t->get_as<std::string>("name");
-          throw InputError(option + ": stage '" + (nm ? nm->get() : std::string("?")) + "' of " + file + " plays " +
-                           std::to_string(n_had) + (n_had == 1 ? " motion" : " motions") + ", the option names " +
-                           std::to_string(names.size()) + "; give as many, e.g. --motion STAGE=H,V for two (each " +
-                           "name a [[motions]] entry, whose direction is its own)");
-        }
-        if (names.size() == 1) {
-          t->insert_or_assign("motion", names.front());
-        } else {
-          toml::array a;
-          for (const auto& m : names) a.push_back(m);
-          t->insert_or_assign("motion", std::move(a));
-        }
+  // std::map puts the key "" first: the every-stage value is set before the named stages' over it.
+  for (const auto& [stage, names] : overrides.motion) {
+    std::string list;
+    for (const auto& m : names) list += (list.empty() ? "" : ",") + m;
+    const std::string option = "--motion " + (stage.empty() ? "" : stage + "=") + list;
+    for (toml::table* t : targets(stage, option)) {
+      // A stage that plays a horizontal and a vertical record keeps both: one name for it
+      // would drop the vertical without a word.
+      const toml::array* had = t->get_as<toml::array>("motion");
+      const std::size_t n_had = had ? had->size() : 1;
+      if (n_had != names.size()) {
+        const auto* nm = t->get_as<std::string>("name");
+        throw InputError(option + ": stage '" + (nm ? nm->get() : std::string("?")) + "' of " + file + " plays " +
+                         std::to_string(n_had) + (n_had == 1 ? " motion" : " motions") + ", the option names " +
+                         std::to_string(names.size()) + "; give as many, e.g. --motion STAGE=H,V for two (each " +
+                         "name a [[motions]] entry, whose direction is its own)");
+      }
+      if (names.size() == 1) {
+        t->insert_or_assign("motion", names.front());
+      } else {
+        toml::array a;
+        for (const auto& m : names) a.push_back(m);
+        t->insert_or_assign("motion", std::move(a));
       }
     }
-    for (const auto& [stage, value] : overrides.pgv) {
-      if (stage.empty() == named) continue;
-      for (toml::table* t : targets(stage, "--pgv " + (stage.empty() ? "" : stage + "=") + value)) {
-        t->erase("motion_scale");
-        t->erase("pga");
-        t->insert_or_assign("pgv", value);
-      }
+  }
+  for (const auto& [stage, value] : overrides.pgv) {
+    for (toml::table* t : targets(stage, "--pgv " + (stage.empty() ? "" : stage + "=") + value)) {
+      t->erase("motion_scale");
+      t->erase("pga");
+      t->insert_or_assign("pgv", value);
     }
   }
 }
